@@ -1,0 +1,21 @@
+//! The crate's error type: one variant per module, each wrapping that module's own enum.
+
+use crate::mesh::{MeshError, StlError};
+use crate::segment::ParamError;
+
+/// Any error the crate returns. Messages are written for the person who supplied the input.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The bytes are not a readable STL file.
+    #[error(transparent)]
+    Stl(#[from] StlError),
+    /// The mesh data violates an invariant (index out of range, non-finite coordinate, …).
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// Segmentation parameters are out of range or contradictory.
+    #[error(transparent)]
+    Params(#[from] ParamError),
+}
+
+/// `Result` with the crate's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

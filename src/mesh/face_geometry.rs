@@ -1,0 +1,87 @@
+//! Per-face unit normals, areas and centroids, computed once from a [`TriMesh`].
+
+use super::TriMesh;
+use crate::math::{Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
+
+/// Unit normal, area and centroid of every face, indexed by face id.
+///
+/// A degenerate face (height below [`DEGENERATE_HEIGHT_RATIO`] of its longest edge, which
+/// includes zero area) has a zero normal: its direction is noise.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaceGeometry {
+    normals: Vec<Vector3>,
+    areas: Vec<Real>,
+    centroids: Vec<Point3>,
+    degenerate: usize,
+}
+
+impl FaceGeometry {
+    /// Computes the geometry of every face of `mesh`, in its current winding.
+    pub fn new(mesh: &TriMesh) -> Self {
+        let n = mesh.triangle_count();
+        let mut geometry = FaceGeometry {
+            normals: Vec::with_capacity(n),
+            areas: Vec::with_capacity(n),
+            centroids: Vec::with_capacity(n),
+            degenerate: 0,
+        };
+        for f in 0..n {
+            let [a, b, c] = mesh.corners(f);
+            let scaled = (b - a).cross(&(c - a));
+            let twice_area = scaled.norm();
+            let longest_sq = (b - a)
+                .norm_squared()
+                .max((c - b).norm_squared())
+                .max((a - c).norm_squared());
+            // height = 2·area / longest edge, so height < r·longest ⇔ 2·area < r·longest².
+            let normal = if twice_area > DEGENERATE_HEIGHT_RATIO * longest_sq {
+                scaled / twice_area
+            } else {
+                geometry.degenerate += 1;
+                Vector3::zeros()
+            };
+            geometry.normals.push(normal);
+            geometry.areas.push(0.5 * twice_area);
+            geometry
+                .centroids
+                .push(Point3::from((a.coords + b.coords + c.coords) / 3.0));
+        }
+        geometry
+    }
+
+    /// Number of faces.
+    pub fn face_count(&self) -> usize {
+        self.normals.len()
+    }
+
+    /// Unit normals (zero for degenerate faces).
+    pub fn normals(&self) -> &[Vector3] {
+        &self.normals
+    }
+
+    /// Areas in squared model units.
+    pub fn areas(&self) -> &[Real] {
+        &self.areas
+    }
+
+    /// Centroids (mean of the three corners).
+    pub fn centroids(&self) -> &[Point3] {
+        &self.centroids
+    }
+
+    /// Whether face `f` is degenerate (has no usable normal).
+    #[inline]
+    pub fn is_degenerate(&self, f: usize) -> bool {
+        self.normals[f] == Vector3::zeros()
+    }
+
+    /// Number of degenerate faces.
+    pub fn degenerate_count(&self) -> usize {
+        self.degenerate
+    }
+
+    /// Total area.
+    pub fn total_area(&self) -> Real {
+        self.areas.iter().sum()
+    }
+}

@@ -1,0 +1,20 @@
+//! Triangle meshes: STL input and output, welding, face adjacency, consistent winding and
+//! per-face geometry. Everything downstream starts from [`import_stl`].
+
+mod adjacency;
+mod face_geometry;
+mod import;
+mod orientation;
+mod stl;
+mod tri_mesh;
+mod weld;
+
+pub use adjacency::{FaceAdjacency, NO_FACE};
+pub use face_geometry::FaceGeometry;
+pub use import::{import_stl, ImportedMesh, MeshReport};
+pub use orientation::{orient_consistently, OrientationReport};
+pub use stl::{
+    read_stl, read_stl_with_progress, write_stl, StlError, StlFormat, StlImport, StlInfo,
+};
+pub use tri_mesh::{MeshError, TriMesh};
+pub use weld::Welder;

@@ -1,0 +1,338 @@
+//! Step 2: approximate planarisation of each region into patches around a mean normal.
+//!
+//! Source: Wang, Zhao, Tao 2019, §2.2, steps 1)–5): grow a patch inside a region, comparing
+//! each candidate face's normal with the patch's area-weighted mean normal
+//! `n_avg = Σ Aᵢ nᵢ / Σ Aᵢ` (Eq. 12); join when the angle is below `θmax`; update `n_avg`
+//! as faces join; repeat until every face of the region is in a patch.
+//! Input:  adjacency, geometry, step-1 regions, `θmax`, a seed order.
+//! Output: a patch id per face; each patch is edge-connected, lies in one region, and every
+//!         face normal in it is strictly within `θmax` of the patch's final mean normal.
+//! Cost:   linear in faces in practice (see the repair bound below).
+//! Deviations:
+//! - Candidates refused against the running mean are retried against the mean the patch
+//!   ends with (the paper's "until no boundary neighbour qualifies"), at most
+//!   [`RETRY_ROUNDS`] times.
+//! - Repair (no paper): comparing with the running mean alone does not bound the deviation
+//!   from the final mean, which drifts as a patch wraps around a fuselage. After growing,
+//!   faces at or beyond `θmax` from the final mean are released, the largest-area connected
+//!   remainder is kept, and this repeats ([`REPAIR_ROUNDS`] at most). If it has not settled
+//!   by then, the patch keeps only the connected faces within `θmax / 2` of its mean around
+//!   the best-aligned face: normals inside a cap of radius `θmax/2` have their mean inside
+//!   the cap, so each is within `θmax` of it. Released faces seed the next patches.
+//! - Seeds follow [`SeedRule`] instead of the paper's "any boundary face"; the order is a
+//!   counting sort over 4096 bins of the rule's key, ties by face index (linear, deterministic).
+
+use super::{Regions, SeedRule};
+use crate::math::{cos, Real, Vector3};
+use crate::mesh::{FaceAdjacency, FaceGeometry};
+
+/// How often refused candidates are retried against the updated mean.
+pub const RETRY_ROUNDS: usize = 16;
+/// How often a grown patch is trimmed to its final mean before the cap fallback.
+pub const REPAIR_ROUNDS: usize = 8;
+const SEED_BINS: usize = 4096;
+const UNASSIGNED: u32 = u32::MAX;
+
+/// Step-2 patches: `patch_of[f]` for every face, ids `0..count` in order of creation.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Patches {
+    /// Patch id of every face.
+    pub patch_of: Vec<u32>,
+    /// Number of patches.
+    pub count: usize,
+}
+
+/// The order in which faces are tried as seeds under `rule` (a permutation of all faces).
+pub fn seed_order(adjacency: &FaceAdjacency, geometry: &FaceGeometry, rule: SeedRule) -> Vec<u32> {
+    let n = geometry.face_count();
+    let normals = geometry.normals();
+    // Key in [0, 1]: 0 is tried first.
+    let key: Box<dyn Fn(usize) -> Real> = match rule {
+        SeedRule::LowestIndex => return (0..n as u32).collect(),
+        SeedRule::Flattest => Box::new(move |f| {
+            // (1 − cos) of the sharpest bend to a neighbour, halved into [0, 1].
+            adjacency
+                .neighbours_of(f)
+                .filter(|&g| !geometry.is_degenerate(g))
+                .map(|g| 0.5 * (1.0 - normals[f].dot(&normals[g])))
+                .fold(0.0, Real::max)
+        }),
+        SeedRule::LargestArea => {
+            let largest = geometry.areas().iter().copied().fold(0.0, Real::max);
+            let areas = geometry.areas();
+            Box::new(move |f| {
+                if largest > 0.0 {
+                    1.0 - areas[f] / largest
+                } else {
+                    0.0
+                }
+            })
+        }
+    };
+    let bin = |f: usize| -> usize {
+        if geometry.is_degenerate(f) {
+            SEED_BINS - 1
+        } else {
+            ((key(f).clamp(0.0, 1.0) * (SEED_BINS - 2) as Real) as usize).min(SEED_BINS - 2)
+        }
+    };
+    let bins: Vec<u16> = (0..n).map(|f| bin(f) as u16).collect();
+    let mut start = vec![0u32; SEED_BINS + 1];
+    for &b in &bins {
+        start[b as usize + 1] += 1;
+    }
+    for b in 0..SEED_BINS {
+        start[b + 1] += start[b];
+    }
+    let mut order = vec![0u32; n];
+    for (f, &b) in bins.iter().enumerate() {
+        order[start[b as usize] as usize] = f as u32;
+        start[b as usize] += 1;
+    }
+    order
+}
+
+/// Scratch space and read-only inputs shared by the patches of one planarisation.
+struct Grower<'a> {
+    adjacency: &'a FaceAdjacency,
+    geometry: &'a FaceGeometry,
+    region_of: &'a [u32],
+    cos_theta: Real,
+    cap_cos: Real,
+    patch_of: Vec<u32>,
+    /// Per face: the patch attempt that last refused (or visited) it.
+    stamp: Vec<u32>,
+    attempt: u32,
+    members: Vec<u32>,
+    refused: Vec<u32>,
+    released: Vec<u32>,
+}
+
+impl Grower<'_> {
+    fn weighted(&self, f: usize) -> Vector3 {
+        self.geometry.normals()[f] * self.geometry.areas()[f]
+    }
+
+    /// Strictly within θmax of the mean `sum / |sum|` (degenerate faces always are).
+    fn fits(&self, f: usize, sum: &Vector3) -> bool {
+        let n = &self.geometry.normals()[f];
+        if *n == Vector3::zeros() {
+            return true;
+        }
+        let len = sum.norm();
+        len == 0.0 || n.dot(sum) > self.cos_theta * len
+    }
+
+    fn sum_of_members(&self) -> Vector3 {
+        self.members
+            .iter()
+            .fold(Vector3::zeros(), |s, &f| s + self.weighted(f as usize))
+    }
+
+    /// Grows patch `p` from `seed` against the running mean, with retries.
+    fn grow(&mut self, seed: usize, p: u32) {
+        let region = self.region_of[seed];
+        self.attempt += 1;
+        self.members.clear();
+        self.refused.clear();
+        self.members.push(seed as u32);
+        self.patch_of[seed] = p;
+        let mut sum = self.weighted(seed);
+        let mut head = 0;
+        for _ in 0..=RETRY_ROUNDS {
+            // Step 3): look at the neighbours of the patch's faces.
+            while head < self.members.len() {
+                let t = self.members[head] as usize;
+                head += 1;
+                for g in self.adjacency.neighbours_of(t) {
+                    if self.patch_of[g] != UNASSIGNED
+                        || self.region_of[g] != region
+                        || self.stamp[g] == self.attempt
+                    {
+                        continue;
+                    }
+                    if self.fits(g, &sum) {
+                        self.patch_of[g] = p;
+                        sum += self.weighted(g);
+                        self.members.push(g as u32);
+                    } else {
+                        self.stamp[g] = self.attempt;
+                        self.refused.push(g as u32);
+                    }
+                }
+            }
+            // Step 4): retry the refused ones against the mean as it is now.
+            let before = self.members.len();
+            let refused = std::mem::take(&mut self.refused);
+            for &g in &refused {
+                let g = g as usize;
+                if self.patch_of[g] == UNASSIGNED && self.fits(g, &sum) {
+                    self.patch_of[g] = p;
+                    sum += self.weighted(g);
+                    self.members.push(g as u32);
+                } else if self.patch_of[g] == UNASSIGNED {
+                    self.refused.push(g as u32);
+                }
+            }
+            if self.members.len() == before {
+                break;
+            }
+        }
+    }
+
+    /// Releases members of `p` for which `keep` is false, then keeps the largest-area
+    /// connected part of the rest (faces of other parts are released too).
+    fn trim(&mut self, p: u32, keep: impl Fn(&Self, usize) -> bool) {
+        let members = std::mem::take(&mut self.members);
+        let mut kept = Vec::with_capacity(members.len());
+        for &f in &members {
+            if keep(self, f as usize) {
+                kept.push(f);
+            } else {
+                self.patch_of[f as usize] = UNASSIGNED;
+                self.released.push(f);
+            }
+        }
+        // Connected parts of what is left, by flood fill within the patch.
+        self.attempt += 1;
+        let mut best: (Real, usize, usize) = (-1.0, 0, 0);
+        let mut order: Vec<u32> = Vec::with_capacity(kept.len());
+        for &f in &kept {
+            if self.stamp[f as usize] == self.attempt {
+                continue;
+            }
+            let start = order.len();
+            self.stamp[f as usize] = self.attempt;
+            order.push(f);
+            let mut head = start;
+            let mut area = 0.0;
+            while head < order.len() {
+                let t = order[head] as usize;
+                head += 1;
+                area += self.geometry.areas()[t];
+                for g in self.adjacency.neighbours_of(t) {
+                    if self.patch_of[g] == p && self.stamp[g] != self.attempt {
+                        self.stamp[g] = self.attempt;
+                        order.push(g as u32);
+                    }
+                }
+            }
+            if area > best.0 {
+                best = (area, start, order.len());
+            }
+        }
+        for (i, &f) in order.iter().enumerate() {
+            if i < best.1 || i >= best.2 {
+                self.patch_of[f as usize] = UNASSIGNED;
+                self.released.push(f);
+            }
+        }
+        self.members = order[best.1..best.2].to_vec();
+    }
+
+    /// Makes every member strictly within θmax of the patch's final mean normal.
+    fn repair(&mut self, p: u32) {
+        for _ in 0..REPAIR_ROUNDS {
+            let sum = self.sum_of_members();
+            if self.members.iter().all(|&f| self.fits(f as usize, &sum)) {
+                return;
+            }
+            self.trim(p, |s, f| s.fits(f, &sum));
+        }
+        let sum = self.sum_of_members();
+        if self.members.iter().all(|&f| self.fits(f as usize, &sum)) {
+            return;
+        }
+        // Cap fallback: keep faces within θmax/2 of the axis, around the best-aligned face.
+        let axis = sum.try_normalize(0.0).unwrap_or_else(Vector3::z);
+        let normals = self.geometry.normals();
+        let best = self
+            .members
+            .iter()
+            .copied()
+            .max_by(|&a, &b| {
+                let (da, db) = (
+                    normals[a as usize].dot(&axis),
+                    normals[b as usize].dot(&axis),
+                );
+                da.total_cmp(&db).then(b.cmp(&a))
+            })
+            .expect("a patch always has a member");
+        let cap_cos = self.cap_cos;
+        let best_fits = normals[best as usize].dot(&axis) > cap_cos;
+        self.trim(p, |s, f| {
+            if best_fits {
+                let n = &s.geometry.normals()[f];
+                *n == Vector3::zeros() || n.dot(&axis) > cap_cos
+            } else {
+                f == best as usize
+            }
+        });
+        debug_assert!({
+            let sum = self.sum_of_members();
+            self.members.iter().all(|&f| self.fits(f as usize, &sum))
+        });
+    }
+}
+
+/// Planarises every region (step 2), trying seeds in `seed_order`.
+pub fn planarise(
+    adjacency: &FaceAdjacency,
+    geometry: &FaceGeometry,
+    regions: &Regions,
+    theta_max_rad: Real,
+    seed_order: &[u32],
+    progress: &mut dyn FnMut(&str, f64),
+) -> Patches {
+    let n = geometry.face_count();
+    let mut grower = Grower {
+        adjacency,
+        geometry,
+        region_of: &regions.region_of,
+        cos_theta: cos(theta_max_rad),
+        cap_cos: cos(0.5 * theta_max_rad),
+        patch_of: vec![UNASSIGNED; n],
+        stamp: vec![0; n],
+        attempt: 0,
+        members: Vec::new(),
+        refused: Vec::new(),
+        released: Vec::new(),
+    };
+    let mut count = 0u32;
+    let mut next = 0usize;
+    let mut assigned = 0usize;
+    let report_every = (n / 64).max(1);
+    let mut next_report = 0;
+    loop {
+        // Faces released by the last repair seed first: they lie next to the patch just made.
+        let seed = loop {
+            if let Some(f) = grower.released.pop() {
+                if grower.patch_of[f as usize] == UNASSIGNED {
+                    break Some(f as usize);
+                }
+            } else if next < seed_order.len() {
+                let f = seed_order[next] as usize;
+                next += 1;
+                if grower.patch_of[f] == UNASSIGNED {
+                    break Some(f);
+                }
+            } else {
+                break None;
+            }
+        };
+        let Some(seed) = seed else { break };
+        grower.grow(seed, count);
+        grower.repair(count);
+        assigned += grower.members.len();
+        count += 1;
+        if assigned >= next_report {
+            progress("planarise", assigned as f64 / n as f64);
+            next_report = assigned + report_every;
+        }
+    }
+    debug_assert!(grower.patch_of.iter().all(|&p| p != UNASSIGNED));
+    Patches {
+        patch_of: grower.patch_of,
+        count: count as usize,
+    }
+}

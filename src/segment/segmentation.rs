@@ -1,0 +1,207 @@
+//! The segmentation pipeline (steps 1–3) and its result: patches with their statistics.
+//!
+//! Source: Wang, Zhao, Tao 2019, §2.1–2.3. Step 3 (§2.3) drops patches with
+//! `A_fin < ε·A`; their faces get [`DROPPED`].
+//! Cost: linear in faces, plus a sort of the patches by area.
+
+use super::{grow_regions, planarise, seed_order, GrowthThreshold, ParamError, SegmentParams};
+use crate::math::{angle_between, Point3, Real, Vector3};
+use crate::mesh::{write_stl, FaceAdjacency, FaceGeometry, TriMesh};
+
+/// Patch id of faces in dropped (too small) patches.
+pub const DROPPED: i32 = -1;
+
+/// One kept patch (serialised for JavaScript in camelCase).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Patch {
+    /// Id: patches are numbered by area, largest first.
+    pub id: usize,
+    /// Faces in the patch.
+    pub triangle_count: usize,
+    /// Area, squared mesh units.
+    pub area: Real,
+    /// Area-weighted mean normal (unit; zero if the patch has no area).
+    pub normal: [Real; 3],
+    /// Largest angle between a face normal and `normal`, radians (< θmax).
+    pub max_deviation: Real,
+    /// Area-weighted centroid.
+    pub centroid: [Real; 3],
+}
+
+/// The result of [`segment`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Segmentation {
+    /// Patch id per face, or [`DROPPED`].
+    pub patch_of: Vec<i32>,
+    /// Kept patches, `patches[i].id == i`, by decreasing area.
+    pub patches: Vec<Patch>,
+    /// The growing threshold used in step 1.
+    pub threshold: GrowthThreshold,
+    /// Regions after step 1.
+    pub region_count: usize,
+    /// Patches after step 2, before small ones were dropped.
+    pub planar_patch_count: usize,
+}
+
+/// Segments a mesh into patches: region growing, planarisation, small-patch removal.
+pub fn segment(
+    adjacency: &FaceAdjacency,
+    geometry: &FaceGeometry,
+    params: &SegmentParams,
+) -> Result<Segmentation, ParamError> {
+    segment_with_progress(adjacency, geometry, params, &mut |_, _| {})
+}
+
+/// [`segment`] reporting `(stage, fraction)` for stages `regions`, `planarise`, `patches`.
+pub fn segment_with_progress(
+    adjacency: &FaceAdjacency,
+    geometry: &FaceGeometry,
+    params: &SegmentParams,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<Segmentation, ParamError> {
+    let threshold = params.validate()?;
+    assert_eq!(
+        adjacency.face_count(),
+        geometry.face_count(),
+        "adjacency and geometry must describe the same mesh"
+    );
+    progress("regions", 0.0);
+    let regions = grow_regions(adjacency, geometry, threshold);
+    progress("planarise", 0.0);
+    let order = seed_order(adjacency, geometry, params.seed_rule);
+    let planar = planarise(
+        adjacency,
+        geometry,
+        &regions,
+        params.theta_max_rad,
+        &order,
+        progress,
+    );
+    drop(order);
+    progress("patches", 0.0);
+
+    // Per step-2 patch: area and weighted sums, in one pass.
+    let mut area = vec![0.0; planar.count];
+    let mut normal_sum = vec![Vector3::zeros(); planar.count];
+    let mut centroid_sum = vec![Vector3::zeros(); planar.count];
+    let mut faces = vec![0usize; planar.count];
+    for (f, &p) in planar.patch_of.iter().enumerate() {
+        let (p, a) = (p as usize, geometry.areas()[f]);
+        area[p] += a;
+        normal_sum[p] += geometry.normals()[f] * a;
+        centroid_sum[p] += geometry.centroids()[f].coords * a;
+        faces[p] += 1;
+    }
+    // Step 3 (§2.3): keep A_fin ≥ ε·A, numbered by decreasing area (ties: creation order).
+    let total: Real = area.iter().sum();
+    let mut kept: Vec<usize> = (0..planar.count)
+        .filter(|&p| area[p] >= params.min_area_ratio * total)
+        .collect();
+    kept.sort_by(|&a, &b| area[b].total_cmp(&area[a]).then(a.cmp(&b)));
+    let mut new_id = vec![DROPPED; planar.count];
+    for (id, &p) in kept.iter().enumerate() {
+        new_id[p] = id as i32;
+    }
+    let patch_of: Vec<i32> = planar
+        .patch_of
+        .iter()
+        .map(|&p| new_id[p as usize])
+        .collect();
+
+    let mut patches: Vec<Patch> = kept
+        .iter()
+        .enumerate()
+        .map(|(id, &p)| {
+            let normal = normal_sum[p]
+                .try_normalize(0.0)
+                .unwrap_or_else(Vector3::zeros);
+            let centroid = if area[p] > 0.0 {
+                centroid_sum[p] / area[p]
+            } else {
+                Vector3::zeros()
+            };
+            Patch {
+                id,
+                triangle_count: faces[p],
+                area: area[p],
+                normal: normal.into(),
+                max_deviation: 0.0,
+                centroid: centroid.into(),
+            }
+        })
+        .collect();
+    for (f, &id) in patch_of.iter().enumerate() {
+        if id != DROPPED && !geometry.is_degenerate(f) {
+            let patch = &mut patches[id as usize];
+            let deviation = angle_between(&geometry.normals()[f], &Vector3::from(patch.normal));
+            patch.max_deviation = patch.max_deviation.max(deviation);
+        }
+    }
+    progress("patches", 1.0);
+    Ok(Segmentation {
+        patch_of,
+        patches,
+        threshold,
+        region_count: regions.count,
+        planar_patch_count: planar.count,
+    })
+}
+
+impl Segmentation {
+    /// Faces of patch `id`, in index order.
+    pub fn faces_of(&self, id: usize) -> impl Iterator<Item = usize> + '_ {
+        self.patch_of
+            .iter()
+            .enumerate()
+            .filter(move |&(_, &p)| p == id as i32)
+            .map(|(f, _)| f)
+    }
+
+    /// Faces in dropped patches.
+    pub fn dropped_count(&self) -> usize {
+        self.patch_of.iter().filter(|&&p| p == DROPPED).count()
+    }
+
+    /// Binary STL of patch `id` (its faces in the mesh's consistent winding), or `None` if
+    /// there is no such patch.
+    pub fn patch_stl(&self, mesh: &TriMesh, id: usize) -> Option<Vec<u8>> {
+        let patch = self.patches.get(id)?;
+        let faces: Vec<usize> = self.faces_of(id).collect();
+        debug_assert_eq!(faces.len(), patch.triangle_count);
+        Some(write_stl(faces.into_iter().map(|f| mesh.corners(f))))
+    }
+
+    /// Edges where the patch changes (or a kept patch meets the mesh boundary), as vertex
+    /// pairs: each edge once.
+    pub fn border_edges(&self, mesh: &TriMesh, adjacency: &FaceAdjacency) -> Vec<[u32; 2]> {
+        let mut edges = Vec::new();
+        for (f, t) in mesh.triangles().iter().enumerate() {
+            let p = self.patch_of[f];
+            for (k, g) in adjacency.neighbours(f).into_iter().enumerate() {
+                let border = if g == crate::mesh::NO_FACE {
+                    p != DROPPED
+                } else {
+                    (g as usize) > f && self.patch_of[g as usize] != p
+                };
+                if border {
+                    edges.push([t[k], t[(k + 1) % 3]]);
+                }
+            }
+        }
+        edges
+    }
+
+    /// [`Segmentation::border_edges`] as flat line-segment endpoints
+    /// `[x0, y0, z0, x1, y1, z1, …]` in `f32`, ready for a line renderer.
+    pub fn border_segments(&self, mesh: &TriMesh, adjacency: &FaceAdjacency) -> Vec<f32> {
+        let point = |v: u32| -> Point3 { mesh.positions()[v as usize] };
+        self.border_edges(mesh, adjacency)
+            .into_iter()
+            .flat_map(|[a, b]| {
+                let (a, b) = (point(a), point(b));
+                [a.x, a.y, a.z, b.x, b.y, b.z].map(|c| c as f32)
+            })
+            .collect()
+    }
+}

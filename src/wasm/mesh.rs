@@ -1,0 +1,67 @@
+//! `Mesh`: an imported STL held on the Rust side (JavaScript must call `free()`).
+
+use super::{progress_fn, Segmentation};
+use crate::mesh::{import_stl, ImportedMesh};
+use std::rc::Rc;
+use wasm_bindgen::prelude::*;
+
+/// A welded, consistently wound triangle mesh read from STL.
+#[wasm_bindgen]
+pub struct Mesh {
+    inner: Rc<ImportedMesh>,
+}
+
+#[wasm_bindgen]
+impl Mesh {
+    /// Reads binary or ASCII STL bytes; `onProgress(stage, fraction)` is optional.
+    /// Throws an `Error` naming what is wrong with the file.
+    #[wasm_bindgen(js_name = fromStl)]
+    pub fn from_stl(bytes: &[u8], on_progress: Option<js_sys::Function>) -> Result<Mesh, JsError> {
+        let imported = import_stl(bytes, &mut progress_fn(on_progress))?;
+        Ok(Mesh {
+            inner: Rc::new(imported),
+        })
+    }
+
+    /// Number of triangles.
+    #[wasm_bindgen(getter, js_name = triangleCount)]
+    pub fn triangle_count(&self) -> u32 {
+        self.inner.mesh.triangle_count() as u32
+    }
+
+    /// Number of welded vertices.
+    #[wasm_bindgen(getter, js_name = vertexCount)]
+    pub fn vertex_count(&self) -> u32 {
+        self.inner.mesh.vertex_count() as u32
+    }
+
+    /// Welded vertex positions, flat `[x0, y0, z0, x1, …]` in the file's unit.
+    pub fn positions(&self) -> Vec<f32> {
+        let positions = self.inner.mesh.positions();
+        positions
+            .iter()
+            .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+            .collect()
+    }
+
+    /// Vertex indices, 3 per triangle, in the consistent winding the segmentation used.
+    pub fn indices(&self) -> Vec<u32> {
+        self.inner.mesh.triangles().as_flattened().to_vec()
+    }
+
+    /// What was found while reading: counts, area, bounding box, defects (see `MeshReport`).
+    pub fn report(&self) -> Result<JsValue, JsError> {
+        Ok(serde_wasm_bindgen::to_value(&self.inner.report)?)
+    }
+
+    /// Segments the surface into patches. `params` as in `deriveThreshold`; throws an
+    /// `Error` on bad parameters. `onProgress(stage, fraction)` is optional.
+    pub fn segment(
+        &self,
+        params: JsValue,
+        on_progress: Option<js_sys::Function>,
+    ) -> Result<Segmentation, JsError> {
+        let params = super::segment::params_from_js(params)?;
+        Segmentation::new(self.inner.clone(), &params, on_progress)
+    }
+}

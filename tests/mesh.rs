@@ -1,0 +1,263 @@
+//! STL import, welding, adjacency, winding and the mesh report, through the public API.
+
+mod common;
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+use common::{binary_stl, check_adjacency, import};
+use skinpath::mesh::{import_stl, read_stl, write_stl, StlError, StlFormat};
+
+fn error(bytes: &[u8]) -> String {
+    match import_stl(bytes, &mut |_, _| {}) {
+        Ok(_) => panic!("expected an error"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn cube_in_both_encodings_has_8_vertices_12_faces_and_no_defects() {
+    for (bytes, format) in [
+        (fixture!("cube_ascii.stl"), StlFormat::Ascii),
+        (fixture!("cube_binary.stl"), StlFormat::Binary),
+        (fixture!("cube_crlf_uppercase.stl"), StlFormat::Ascii),
+        (
+            fixture!("binary_header_starts_with_solid.stl"),
+            StlFormat::Binary,
+        ),
+        (fixture!("no_endsolid.stl"), StlFormat::Ascii),
+    ] {
+        let m = import(bytes);
+        let r = &m.report;
+        assert_eq!(r.format, format);
+        assert_eq!((r.triangles, r.vertices), (12, 8));
+        assert_near!(r.area, 6.0, 1e-12);
+        assert_eq!((r.boundary_edges, r.non_manifold_edges), (0, 0));
+        assert_eq!(
+            (r.components, r.degenerate_triangles, r.flipped_triangles),
+            (1, 0, 0)
+        );
+        assert_eq!((r.bbox_min, r.bbox_max), ([0.0; 3], [1.0; 3]));
+        check_adjacency(&m);
+    }
+}
+
+#[test]
+fn trailing_bytes_after_a_binary_file_are_reported() {
+    let m = import(fixture!("trailing_bytes.stl"));
+    assert_eq!(m.report.triangles, 12);
+    assert_eq!(
+        m.report.trailing_bytes,
+        "exported by a tool that pads files\n".len()
+    );
+}
+
+#[test]
+fn open_strip_and_single_triangle_count_boundary_edges() {
+    let strip = import(fixture!("open_strip.stl"));
+    assert_eq!((strip.report.vertices, strip.report.boundary_edges), (8, 8));
+    let one = import(fixture!("single_triangle.stl"));
+    assert_eq!((one.report.triangles, one.report.boundary_edges), (1, 3));
+}
+
+#[test]
+fn non_manifold_edge_links_nobody_and_is_counted_once() {
+    let m = import(fixture!("nonmanifold_edge.stl"));
+    assert_eq!(m.report.non_manifold_edges, 1);
+    assert_eq!(m.report.components, 1);
+    for f in 0..3 {
+        assert_eq!(m.adjacency.neighbours_of(f).count(), 0);
+    }
+}
+
+#[test]
+fn two_cubes_are_two_components() {
+    let m = import(fixture!("two_components.stl"));
+    assert_eq!((m.report.components, m.report.vertices), (2, 16));
+    check_adjacency(&m);
+}
+
+#[test]
+fn flipped_and_inside_out_faces_are_rewound_outwards() {
+    let reference = import(fixture!("cube_binary.stl"));
+    for (bytes, flipped) in [
+        (fixture!("flipped_faces.stl"), 3),
+        (fixture!("inside_out_cube.stl"), 12),
+    ] {
+        let m = import(bytes);
+        assert_eq!(m.report.flipped_triangles, flipped);
+        check_adjacency(&m);
+        for f in 0..12 {
+            let dot = m.geometry.normals()[f].dot(&reference.geometry.normals()[f]);
+            assert_near!(dot, 1.0, 1e-12);
+        }
+    }
+}
+
+#[test]
+fn non_finite_triangles_are_skipped_and_counted() {
+    let m = import(fixture!("nan_vertex.stl"));
+    assert_eq!((m.report.triangles, m.report.skipped_triangles), (11, 1));
+    let m = import(fixture!("inf_vertex_ascii.stl"));
+    assert_eq!((m.report.triangles, m.report.skipped_triangles), (1, 1));
+    assert_eq!(
+        error(fixture!("all_nan.stl")),
+        "no usable triangles: all 1 triangles have NaN or infinite coordinates"
+    );
+}
+
+#[test]
+fn degenerate_triangles_are_kept_counted_and_linked_to_nobody_if_collapsed() {
+    let m = import(fixture!("degenerate_triangle.stl"));
+    assert_eq!((m.report.triangles, m.report.degenerate_triangles), (3, 2));
+    assert_eq!(
+        m.adjacency.neighbours_of(1).count(),
+        0,
+        "a face with a repeated vertex"
+    );
+}
+
+#[test]
+fn malformed_files_get_messages_that_name_the_problem() {
+    let cases: [(&[u8], &str); 9] = [
+        (fixture!("empty.stl"), "the file is empty"),
+        (
+            fixture!("not_stl.txt"),
+            "not an STL file: it does not start with 'solid' and is too short (33 bytes)",
+        ),
+        (
+            fixture!("png_header.stl"),
+            "not an STL file, or a corrupt one: its binary header claims",
+        ),
+        (
+            fixture!("truncated.stl"),
+            "truncated binary STL: the header says 12 triangles but only 7 are present",
+        ),
+        (
+            fixture!("count_too_large.stl"),
+            "its binary header claims 4000000000 triangles",
+        ),
+        (
+            fixture!("bad_number.stl"),
+            "malformed number '1.0.0' at line 5 of the ASCII STL",
+        ),
+        (
+            fixture!("four_vertices.stl"),
+            "the facet starting at line 2 has 4 vertices",
+        ),
+        (
+            fixture!("no_triangles.stl"),
+            "the STL file contains no triangles",
+        ),
+        (
+            fixture!("ascii_truncated.stl"),
+            "the ASCII STL ends inside a facet",
+        ),
+    ];
+    for (bytes, expected) in cases {
+        let message = error(bytes);
+        assert!(
+            message.contains(expected),
+            "got {message:?}, expected {expected:?}"
+        );
+    }
+}
+
+#[test]
+fn a_huge_declared_count_is_refused_before_anything_is_allocated() {
+    // 84 bytes claiming u32::MAX triangles: reading must fail on the size check alone.
+    let mut bytes = vec![0u8; 80];
+    bytes.extend_from_slice(&u32::MAX.to_le_bytes());
+    assert!(matches!(
+        read_stl(&bytes),
+        Err(StlError::CountTooLarge { .. })
+    ));
+}
+
+#[test]
+fn written_stl_reads_back_identically() {
+    let m = import(fixture!("cube_ascii.stl"));
+    let bytes = write_stl((0..12).map(|f| m.mesh.corners(f)));
+    assert_eq!(bytes.len(), 84 + 12 * 50);
+    let back = import(&bytes);
+    assert_eq!(back.mesh, m.mesh);
+}
+
+#[test]
+fn generated_sphere_is_closed_and_outward() {
+    let m = import(&binary_stl(&common::sphere(2.0, 32, 16)));
+    assert_eq!(
+        (m.report.boundary_edges, m.report.non_manifold_edges),
+        (0, 0)
+    );
+    assert_eq!((m.report.components, m.report.flipped_triangles), (1, 0));
+    // Euler characteristic of a sphere: V − E + F = 2, with E = 3F/2.
+    let (v, f) = (m.report.vertices as i64, m.report.triangles as i64);
+    assert_eq!(v - 3 * f / 2 + f, 2);
+    check_adjacency(&m);
+}
+
+/// Real meshes from the shared model folder (native only: WebAssembly has no file system).
+#[cfg(not(target_arch = "wasm32"))]
+mod real_models {
+    use super::*;
+
+    pub fn load(name: &str) -> Vec<u8> {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/models")
+            .join(name);
+        std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    }
+
+    #[test]
+    fn vertex_counts_match_stl_io_and_the_model_notes() {
+        // (file, triangles, unique vertices as listed in the models' SOURCES.md)
+        for (name, triangles, vertices) in [
+            ("airplane_10796_pymeshlab.stl", 10_796, 5_400),
+            ("wingbody_79868_flow360.stl", 79_868, 39_936),
+            ("b747_14062_flightgear.stl", 14_062, 7_647),
+            ("bwb_4464_pygeo_ascii.stl", 4_464, 2_234),
+        ] {
+            let bytes = load(name);
+            let m = import(&bytes);
+            assert_eq!(
+                (m.report.triangles, m.report.vertices),
+                (triangles, vertices),
+                "{name}"
+            );
+            let reference = stl_io::read_stl(&mut std::io::Cursor::new(&bytes)).unwrap();
+            assert_eq!(reference.faces.len(), triangles, "{name} per stl_io");
+            check_adjacency(&m);
+        }
+    }
+
+    #[test]
+    fn defects_of_the_messy_airliner_are_reported() {
+        let m = import(&load("b747_14062_flightgear.stl"));
+        let r = &m.report;
+        assert_eq!((r.boundary_edges, r.non_manifold_edges), (1_141, 113));
+        assert!(r.flipped_triangles > 0 && r.components > 1);
+        for name in [
+            "airplane_10796_pymeshlab.stl",
+            "wingbody_79868_flow360.stl",
+            "bwb_4464_pygeo_ascii.stl",
+        ] {
+            let m = import(&load(name));
+            assert_eq!(
+                (m.report.boundary_edges, m.report.non_manifold_edges),
+                (0, 0),
+                "{name}"
+            );
+            assert_eq!(
+                (m.report.components, m.report.flipped_triangles),
+                (1, 0),
+                "{name} is clean"
+            );
+        }
+        let orion = import(&load("orion_51736_nasa.stl"));
+        assert_eq!(
+            (orion.report.components, orion.report.boundary_edges),
+            (3, 0)
+        );
+    }
+}

@@ -1,0 +1,346 @@
+//! Segmentation (seed 000) against known answers and invariants, through the public API.
+
+mod common;
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+use common::{binary_stl, check_invariants, cylinder, import, plane, refined_cube};
+use skinpath::segment::{
+    grind_curvature_threshold, segment, spray_angle_threshold, Criterion, GrindParams,
+    GrowthThreshold, ParamError, ParamsSpec, SeedRule, SegmentParams, SprayParams,
+};
+use std::f64::consts::PI;
+
+fn params(criterion: Criterion, theta_max_rad: f64, min_area_ratio: f64) -> SegmentParams {
+    SegmentParams {
+        criterion,
+        theta_max_rad,
+        min_area_ratio,
+        ..SegmentParams::default()
+    }
+}
+
+#[test]
+fn cubes_coarse_and_refined_give_six_patches() {
+    for bytes in [
+        fixture!("cube_binary.stl").to_vec(),
+        fixture!("flipped_faces.stl").to_vec(),
+        binary_stl(&refined_cube(8)),
+    ] {
+        let m = import(&bytes);
+        let seg = segment(&m.adjacency, &m.geometry, &SegmentParams::default()).unwrap();
+        assert_eq!(check_invariants(&m, &seg, 1.0, 0.1), 6);
+        assert_eq!(seg.region_count, 6);
+        for p in &seg.patches {
+            assert_near!(p.area, 1.0, 1e-9);
+            assert_near!(p.max_deviation, 0.0, 1e-9);
+        }
+    }
+}
+
+#[test]
+fn open_cylinder_splits_into_about_pi_over_theta_max_patches() {
+    let m = import(&binary_stl(&cylinder(1.0, 3.0, 96, 12)));
+    for theta in [1.2, 1.0, 0.7, 0.5, 0.3] {
+        // α above the facet angle 2π/96: the whole tube is one step-1 region.
+        let p = params(Criterion::Angle { alpha_rad: 0.35 }, theta, 0.0);
+        let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
+        assert_eq!(seg.region_count, 1);
+        check_invariants(&m, &seg, theta, 0.0);
+        // The patches covering 95 % of the area.
+        let total: f64 = seg.patches.iter().map(|p| p.area).sum();
+        let mut covered = 0.0;
+        let main = seg
+            .patches
+            .iter()
+            .take_while(|p| {
+                let before = covered;
+                covered += p.area;
+                before < 0.95 * total
+            })
+            .count();
+        let expected = (PI / theta).ceil() as usize;
+        assert!(
+            (expected..=expected + 1).contains(&main),
+            "θmax {theta}: {main} main patches, expected about {expected}"
+        );
+    }
+}
+
+#[test]
+fn curvature_threshold_grows_around_a_tube_only_above_one_over_radius() {
+    let (r, n) = (2.0, 64);
+    let m = import(&binary_stl(&cylinder(r, 5.0, n, 10)));
+    let below = params(Criterion::Curvature { kappa: 0.9 / r }, PI, 0.0);
+    let seg = segment(&m.adjacency, &m.geometry, &below).unwrap();
+    assert_eq!(seg.region_count, n, "one axial strip per facet column");
+    let above = params(Criterion::Curvature { kappa: 1.1 / r }, PI, 0.0);
+    let seg = segment(&m.adjacency, &m.geometry, &above).unwrap();
+    assert_eq!(seg.region_count, 1, "the whole tube");
+}
+
+#[test]
+fn derived_thresholds_follow_equations_4_and_9() {
+    let spray = SprayParams {
+        mean_thickness: 100.0,
+        allowed_deviation: 6.0,
+        min_thickness: 97.0,
+    };
+    assert_near!(
+        spray_angle_threshold(&spray).unwrap(),
+        (94.0f64 / 97.0).acos(),
+        1e-12
+    );
+    let grind = GrindParams {
+        indentation_depth: 0.2,
+        min_pressure_ratio: 0.6,
+        contact_width: 8.0,
+    };
+    assert_near!(
+        grind_curvature_threshold(&grind).unwrap(),
+        2.0 * 0.2 * (1.0 - 0.36) / 64.0,
+        1e-12
+    );
+    assert_eq!(
+        Criterion::Grind(grind).threshold().unwrap(),
+        GrowthThreshold::Curvature(2.0 * 0.2 * (1.0 - 0.36) / 64.0)
+    );
+}
+
+#[test]
+fn bad_parameters_are_refused_with_the_parameter_named() {
+    let spray = |qd, dq, qmin| {
+        Criterion::Spray(SprayParams {
+            mean_thickness: qd,
+            allowed_deviation: dq,
+            min_thickness: qmin,
+        })
+    };
+    let grind = |d, delta, lc| {
+        Criterion::Grind(GrindParams {
+            indentation_depth: d,
+            min_pressure_ratio: delta,
+            contact_width: lc,
+        })
+    };
+    let angle = Criterion::Angle { alpha_rad: 0.35 };
+    let cases = [
+        (
+            params(grind(0.1, 1.0, 5.0), 1.0, 0.1),
+            "minPressureRatio must be strictly between 0 and 1, got 1",
+        ),
+        (
+            params(grind(0.1, 0.0, 5.0), 1.0, 0.1),
+            "minPressureRatio must be strictly between 0 and 1",
+        ),
+        (
+            params(grind(-0.1, 0.5, 5.0), 1.0, 0.1),
+            "indentationDepth must be greater than 0",
+        ),
+        (
+            params(spray(100.0, 10.0, 80.0), 1.0, 0.1),
+            "outside [−1, 1]",
+        ),
+        (
+            params(spray(100.0, 0.0, 100.0), 1.0, 0.1),
+            "derived angle threshold is 0 rad",
+        ),
+        (
+            params(spray(100.0, 120.0, 80.0), 1.0, 0.1),
+            "allowedDeviation must be at least 0 and less than the mean thickness",
+        ),
+        (
+            params(angle, 0.0, 0.1),
+            "thetaMax must be in (0, π] radians, got 0",
+        ),
+        (
+            params(angle, 3.5, 0.1),
+            "thetaMax must be in (0, π] radians",
+        ),
+        (
+            params(angle, 1.0, 1.0),
+            "minAreaRatio must be at least 0 and less than 1, got 1",
+        ),
+        (
+            params(angle, 1.0, -0.1),
+            "minAreaRatio must be at least 0 and less than 1",
+        ),
+        (
+            params(angle, f64::NAN, 0.1),
+            "thetaMax must be a finite number, got NaN",
+        ),
+        (
+            params(Criterion::Angle { alpha_rad: 4.0 }, 1.0, 0.1),
+            "angleThreshold must be in (0, π] radians",
+        ),
+        (
+            params(Criterion::Curvature { kappa: 0.0 }, 1.0, 0.1),
+            "curvatureThreshold must be greater than 0",
+        ),
+    ];
+    let m = import(fixture!("cube_binary.stl"));
+    for (p, expected) in cases {
+        let message = segment(&m.adjacency, &m.geometry, &p)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains(expected),
+            "got {message:?}, expected {expected:?}"
+        );
+    }
+    let two = ParamsSpec {
+        angle_threshold: Some(0.3),
+        spray: Some(
+            SprayParams {
+                mean_thickness: 1.0,
+                allowed_deviation: 0.1,
+                min_thickness: 1.0,
+            }
+            .into(),
+        ),
+        ..ParamsSpec::default()
+    };
+    assert_eq!(
+        SegmentParams::try_from(two).unwrap_err(),
+        ParamError::CriterionCount {
+            given: "angleThreshold, spray".into()
+        }
+    );
+}
+
+#[test]
+fn small_patches_are_dropped_by_area_ratio() {
+    // A big plane and a small one, far apart: at ε = 10 % the small one (1 %) goes.
+    let mut triangles = plane(10.0, 10.0, 4);
+    triangles.extend(
+        plane(1.0, 1.0, 1)
+            .into_iter()
+            .map(|t| t.map(|[x, y, z]| [x + 20.0, y, z])),
+    );
+    let m = import(&binary_stl(&triangles));
+    let seg = segment(&m.adjacency, &m.geometry, &SegmentParams::default()).unwrap();
+    assert_eq!(check_invariants(&m, &seg, 1.0, 0.1), 1);
+    assert_eq!(seg.dropped_count(), 2);
+    assert_eq!(seg.patch_of[32..], [-1, -1]);
+    let keep_all = params(Criterion::Angle { alpha_rad: 0.35 }, 1.0, 0.0);
+    assert_eq!(
+        segment(&m.adjacency, &m.geometry, &keep_all)
+            .unwrap()
+            .patches
+            .len(),
+        2
+    );
+}
+
+#[test]
+fn patch_stl_holds_exactly_the_patch_faces() {
+    let m = import(fixture!("cube_ascii.stl"));
+    let seg = segment(&m.adjacency, &m.geometry, &SegmentParams::default()).unwrap();
+    let stl = seg.patch_stl(&m.mesh, 0).unwrap();
+    let back = import(&stl);
+    assert_eq!(back.report.triangles, 2);
+    assert_near!(back.report.area, 1.0, 1e-12);
+    assert!(seg.patch_stl(&m.mesh, 6).is_none());
+    // Every cube edge is a border between two patches: 12 segments.
+    assert_eq!(seg.border_edges(&m.mesh, &m.adjacency).len(), 12);
+}
+
+#[test]
+fn every_seed_rule_keeps_the_invariants_and_is_deterministic() {
+    let m = import(&binary_stl(&common::sphere(1.0, 48, 24)));
+    for rule in [
+        SeedRule::LowestIndex,
+        SeedRule::Flattest,
+        SeedRule::LargestArea,
+    ] {
+        for theta in [0.4, 1.0, PI] {
+            let p = SegmentParams {
+                seed_rule: rule,
+                ..params(Criterion::Angle { alpha_rad: 0.35 }, theta, 0.0)
+            };
+            let a = segment(&m.adjacency, &m.geometry, &p).unwrap();
+            check_invariants(&m, &a, theta, 0.0);
+            assert_eq!(
+                a,
+                segment(&m.adjacency, &m.geometry, &p).unwrap(),
+                "{rule:?} is deterministic"
+            );
+        }
+    }
+}
+
+/// The paper's run and the invariants on the real models (native only: no file system in wasm).
+#[cfg(not(target_arch = "wasm32"))]
+mod real_models {
+    use super::*;
+
+    const MODELS: [&str; 5] = [
+        "airplane_10796_pymeshlab.stl",
+        "wingbody_79868_flow360.stl",
+        "b747_14062_flightgear.stl",
+        "bwb_4464_pygeo_ascii.stl",
+        "orion_51736_nasa.stl",
+    ];
+
+    fn load(name: &str) -> Vec<u8> {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/models")
+            .join(name);
+        std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    }
+
+    #[test]
+    fn invariants_hold_on_every_real_model_for_several_settings() {
+        for name in MODELS {
+            let m = import(&load(name));
+            for (criterion, theta, ratio) in [
+                (Criterion::Angle { alpha_rad: 0.35 }, 1.0, 0.1),
+                (Criterion::Angle { alpha_rad: 0.2 }, 0.5, 0.0),
+                (Criterion::Curvature { kappa: 2.0 }, 0.8, 0.01),
+            ] {
+                for rule in [
+                    SeedRule::LowestIndex,
+                    SeedRule::Flattest,
+                    SeedRule::LargestArea,
+                ] {
+                    let p = SegmentParams {
+                        seed_rule: rule,
+                        ..params(criterion, theta, ratio)
+                    };
+                    let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
+                    check_invariants(&m, &seg, theta, ratio);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn paper_parameters_on_the_aircraft_models() {
+        // α_th = 0.35 rad, θmax = 1 rad, ε = 10 % (the paper reports 7 patches on its model).
+        for name in MODELS {
+            let m = import(&load(name));
+            let mut counts = Vec::new();
+            for rule in [
+                SeedRule::LowestIndex,
+                SeedRule::Flattest,
+                SeedRule::LargestArea,
+            ] {
+                let p = SegmentParams {
+                    seed_rule: rule,
+                    ..SegmentParams::default()
+                };
+                let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
+                let n = check_invariants(&m, &seg, 1.0, 0.1);
+                let kept: f64 = seg.patches.iter().map(|p| p.area).sum::<f64>() / m.report.area;
+                counts.push(format!(
+                    "{rule:?}: {n} patches ({} before ε, {:.0} % of the area kept)",
+                    seg.planar_patch_count,
+                    100.0 * kept
+                ));
+                assert!((1..=10).contains(&n), "{name} {rule:?}: {n} patches");
+            }
+            eprintln!("{name}: {}", counts.join("; "));
+        }
+    }
+}

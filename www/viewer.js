@@ -1,0 +1,434 @@
+// The 3D view: the only module (with picking.js) that imports three.js.
+// One non-indexed geometry holds the whole mesh, triangles grouped by patch (see worker.js),
+// coloured per vertex. Visibility and highlighting only rewrite the geometry's draw groups
+// (a handful of ranges), so they stay instant at a million triangles.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { PatchPicker } from './picking.js';
+
+/**
+ * Patch colours: Okabe & Ito's colour-blind-safe set (black and grey left out), then the
+ * darker colours of Paul Tol's "muted" scheme. Grey is reserved for dropped triangles.
+ * Colours repeat after twelve patches; the border lines keep neighbours apart.
+ */
+export const PATCH_COLORS = [
+  '#0072B2', '#E69F00', '#009E73', '#CC79A7', '#56B4E9', '#D55E00',
+  '#F0E442', '#882255', '#44AA99', '#332288', '#999933', '#AA4499',
+];
+export const DROPPED_COLOR = '#A0A4A8';
+
+/** CSS colour of a patch id (-1 = dropped). */
+export function patchColor(id) {
+  return id < 0 ? DROPPED_COLOR : PATCH_COLORS[id % PATCH_COLORS.length];
+}
+
+const BACKGROUND = 0xe9edf1;
+const BASE = 0;
+const HOVER = 1;
+const SELECTED = 2;
+// Standard views as directions from the target to the camera, in the display frame (Y up).
+// The up-axis setting turns the model so that its up axis is the display's Y.
+const VIEWS = {
+  top: new THREE.Vector3(0, 1, 1e-4), // not exactly along Y: the orbit needs an azimuth
+  front: new THREE.Vector3(0, 0, 1),
+  side: new THREE.Vector3(1, 0, 0),
+  iso: new THREE.Vector3(1, 0.8, 1),
+};
+
+function surfaceMaterial(emissiveIntensity) {
+  // Flat shading takes each face's normal from screen-space derivatives, so it always faces
+  // the camera: lighting is right whatever the triangle's winding, with no normal buffer.
+  return new THREE.MeshLambertMaterial({
+    vertexColors: true,
+    flatShading: true,
+    side: THREE.DoubleSide,
+    emissive: 0xffffff,
+    emissiveIntensity,
+    // Push faces back a little so that border lines on them are not hidden.
+    polygonOffset: true,
+    polygonOffsetFactor: 1,
+    polygonOffsetUnits: 1,
+  });
+}
+
+export class Viewer extends EventTarget {
+  #container;
+  #renderer;
+  #scene = new THREE.Scene();
+  #camera = new THREE.PerspectiveCamera(40, 1, 0.01, 1000);
+  #controls;
+  #model = new THREE.Group(); // turned by the up-axis setting
+  #mesh = null;
+  #borders = null;
+  #materials = [surfaceMaterial(0), surfaceMaterial(0.16), surfaceMaterial(0.34)];
+  #borderMaterial = new THREE.LineBasicMaterial({ color: 0x15191d, transparent: true, opacity: 0.75 });
+  #ranges = new Uint32Array(0);
+  #state = { hidden: new Set(), selected: null, hovered: null, showBorders: true };
+  #borderPatches = null; // Int32Array, two patch ids per border segment, when the core gives them
+  #borderHiddenKey = '';
+  #picker = new PatchPicker();
+  #raycaster = new THREE.Raycaster();
+  #renderQueued = false;
+  #sceneRadius = 1; // bounding radius of the whole model: bounds the far plane
+  #gizmo;
+
+  constructor(container) {
+    super();
+    this.#container = container;
+    // Throws when WebGL is unavailable; the page reports it.
+    this.#renderer = new THREE.WebGLRenderer({ antialias: true, powerPreference: 'high-performance' });
+    this.#renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    this.#renderer.setClearColor(BACKGROUND);
+    this.#renderer.autoClear = false;
+    const canvas = this.#renderer.domElement;
+    canvas.setAttribute('role', 'img');
+    canvas.setAttribute('aria-label', '3D view of the model, coloured by patch');
+    container.appendChild(canvas);
+
+    this.#scene.add(this.#model);
+    this.#scene.add(new THREE.HemisphereLight(0xffffff, 0x8a96a3, 1.6));
+    // A headlight that follows the camera, slightly above and to the left of the eye.
+    const headlight = new THREE.DirectionalLight(0xffffff, 2.0);
+    headlight.position.set(-0.3, 0.5, 1);
+    headlight.target.position.set(0, 0, -1);
+    this.#camera.add(headlight, headlight.target);
+    this.#scene.add(this.#camera);
+
+    this.#controls = new OrbitControls(this.#camera, canvas);
+    this.#controls.zoomToCursor = true;
+    this.#controls.screenSpacePanning = true;
+    this.#controls.addEventListener('change', () => this.#onCameraChange());
+    this.#gizmo = new AxisGizmo();
+
+    new ResizeObserver(() => this.#resize()).observe(container);
+    this.#resize();
+    this.#listenForPicks(canvas);
+    canvas.addEventListener('webglcontextlost', (event) => event.preventDefault());
+    canvas.addEventListener('webglcontextrestored', () => this.requestRender());
+  }
+
+  get canvas() {
+    return this.#renderer.domElement;
+  }
+
+  /**
+   * Shows a mesh: display = { positions, ranges, borders, borderPatches } from the worker
+   * (file frame); borderPatches may be null.
+   * `keepView` keeps the camera (re-segmenting the same model); otherwise the view is fitted.
+   */
+  setModel(display, { keepView = false } = {}) {
+    this.#disposeModel();
+    const { positions, ranges, borders, borderPatches } = display;
+    this.#ranges = ranges;
+    this.#borderPatches = borderPatches ?? null;
+    this.#borderHiddenKey = '';
+
+    const geometry = new THREE.BufferGeometry();
+    const position = new THREE.BufferAttribute(positions, 3);
+    geometry.setAttribute('position', position);
+    geometry.setAttribute('color', new THREE.BufferAttribute(this.#colors(ranges, positions.length / 3), 3, true));
+    geometry.computeBoundingSphere();
+    this.#sceneRadius = Math.max(geometry.boundingSphere.radius, 1e-9);
+    this.#mesh = new THREE.Mesh(geometry, this.#materials);
+    this.#mesh.raycast = () => {}; // picking goes through the BVH, never three's brute force
+    this.#model.add(this.#mesh);
+
+    const lineGeometry = new THREE.BufferGeometry();
+    lineGeometry.setAttribute('position', new THREE.BufferAttribute(borders, 3));
+    this.#borders = new THREE.LineSegments(lineGeometry, this.#borderMaterial);
+    this.#borders.raycast = () => {};
+    this.#model.add(this.#borders);
+
+    this.#picker.setGeometry(position, ranges);
+    this.#state.hidden = new Set();
+    this.#state.selected = null;
+    this.#state.hovered = null;
+    this.#applyState();
+    if (!keepView) this.fit(VIEWS.iso);
+    this.requestRender();
+  }
+
+  /** Updates what is drawn: { hidden: Set<id> (-1 = dropped), selected, hovered, showBorders }. */
+  setPatchState(state) {
+    Object.assign(this.#state, state);
+    this.#applyState();
+    this.requestRender();
+  }
+
+  /** 'y' or 'z': which axis of the file points up on screen. */
+  setUpAxis(axis) {
+    this.#model.rotation.set(axis === 'z' ? -Math.PI / 2 : 0, 0, 0);
+    this.#model.updateMatrixWorld(true);
+    this.#gizmo.setUpAxis(axis);
+    if (this.#mesh) this.fit(this.#viewDirection());
+    this.requestRender();
+  }
+
+  /** Standard view: 'fit' (keep the direction), 'top', 'front', 'side' or 'iso'. */
+  setView(name) {
+    this.fit(name === 'fit' ? this.#viewDirection() : VIEWS[name]);
+  }
+
+  /** Frames the visible model, looking along `direction` (target → camera). */
+  fit(direction = this.#viewDirection()) {
+    if (!this.#mesh) return;
+    const sphere = this.#mesh.geometry.boundingSphere.clone().applyMatrix4(this.#mesh.matrixWorld);
+    this.#frameSphere(sphere, direction);
+  }
+
+  /** Frames one patch (three.js computes its bounding box from its triangle range). */
+  fitPatch(id) {
+    if (!this.#mesh || id === null || id < 0) return;
+    const start = this.#ranges[2 * id];
+    const count = this.#ranges[2 * id + 1];
+    const positions = this.#mesh.geometry.attributes.position.array.subarray(9 * start, 9 * (start + count));
+    const box = new THREE.Box3().setFromBufferAttribute(new THREE.BufferAttribute(positions, 3));
+    const sphere = box.getBoundingSphere(new THREE.Sphere()).applyMatrix4(this.#mesh.matrixWorld);
+    this.#frameSphere(sphere, this.#viewDirection());
+  }
+
+  /** Drops the model (the view goes empty). */
+  clear() {
+    this.#disposeModel();
+    this.requestRender();
+  }
+
+  requestRender() {
+    if (this.#renderQueued) return;
+    this.#renderQueued = true;
+    requestAnimationFrame(() => {
+      this.#renderQueued = false;
+      this.#render();
+    });
+  }
+
+  #render() {
+    const renderer = this.#renderer;
+    renderer.clear();
+    renderer.render(this.#scene, this.#camera);
+    this.#gizmo.render(renderer, this.#camera);
+  }
+
+  #colors(ranges, vertexCount) {
+    const colors = new Uint8Array(vertexCount * 3);
+    const c = new THREE.Color();
+    const buckets = ranges.length / 2;
+    for (let b = 0; b < buckets; b++) {
+      // Vertex colours are read as linear values: convert from the sRGB palette.
+      c.set(patchColor(b === buckets - 1 ? -1 : b));
+      const r = Math.round(c.r * 255);
+      const g = Math.round(c.g * 255);
+      const bl = Math.round(c.b * 255);
+      const end = 9 * (ranges[2 * b] + ranges[2 * b + 1]);
+      for (let i = 9 * ranges[2 * b]; i < end; i += 3) {
+        colors[i] = r;
+        colors[i + 1] = g;
+        colors[i + 2] = bl;
+      }
+    }
+    return colors;
+  }
+
+  #isVisible(id) {
+    return !this.#state.hidden.has(id < 0 ? -1 : id);
+  }
+
+  /** Rebuilds draw groups: visible buckets only, consecutive ones with equal looks merged. */
+  #applyState() {
+    if (!this.#mesh) return;
+    const { selected, hovered, showBorders } = this.#state;
+    const geometry = this.#mesh.geometry;
+    geometry.clearGroups();
+    const buckets = this.#ranges.length / 2;
+    let open = null;
+    for (let b = 0; b < buckets; b++) {
+      const id = b === buckets - 1 ? -1 : b;
+      const count = this.#ranges[2 * b + 1];
+      if (count === 0 || !this.#isVisible(id)) {
+        open = null;
+        continue;
+      }
+      const material = id === selected && id >= 0 ? SELECTED : id === hovered && id >= 0 ? HOVER : BASE;
+      if (open && open.materialIndex === material) {
+        open.count += 3 * count;
+      } else {
+        open = { start: 3 * this.#ranges[2 * b], count: 3 * count, materialIndex: material };
+        geometry.groups.push(open);
+      }
+    }
+    this.#applyBorderState(showBorders);
+  }
+
+  /** Border lines of hidden patches would float in the air: draw only those of visible ones. */
+  #applyBorderState(showBorders) {
+    const hidden = this.#state.hidden;
+    const anyPatchHidden = [...hidden].some((id) => id >= 0);
+    const sides = this.#borderPatches;
+    if (!sides) {
+      // Without per-segment patch ids the lines cannot be filtered: hide them while patches are.
+      this.#borders.visible = showBorders && !anyPatchHidden;
+      return;
+    }
+    this.#borders.visible = showBorders;
+    const key = [...hidden].sort((a, b) => a - b).join(',');
+    if (key === this.#borderHiddenKey) return;
+    this.#borderHiddenKey = key;
+    const geometry = this.#borders.geometry;
+    if (!hidden.size) {
+      geometry.setIndex(null);
+      return;
+    }
+    // A segment stays while the patch on either side of it is visible.
+    const visible = [];
+    for (let s = 0; s < sides.length / 2; s++) {
+      if (this.#isVisible(sides[2 * s]) || this.#isVisible(sides[2 * s + 1])) visible.push(2 * s, 2 * s + 1);
+    }
+    geometry.setIndex(visible);
+  }
+
+  #disposeModel() {
+    if (this.#mesh) {
+      this.#model.remove(this.#mesh, this.#borders);
+      this.#mesh.geometry.dispose();
+      this.#borders.geometry.dispose();
+      this.#mesh = null;
+      this.#borders = null;
+    }
+    this.#picker.clear();
+  }
+
+  #viewDirection() {
+    return this.#camera.position.clone().sub(this.#controls.target);
+  }
+
+  #frameSphere(sphere, direction) {
+    const radius = Math.max(sphere.radius, 1e-9);
+    const fov = THREE.MathUtils.degToRad(this.#camera.fov);
+    const fitFov = this.#camera.aspect < 1 ? 2 * Math.atan(Math.tan(fov / 2) * this.#camera.aspect) : fov;
+    const distance = (radius / Math.sin(fitFov / 2)) * 1.05;
+    const dir = direction.clone();
+    if (dir.lengthSq() === 0) dir.copy(VIEWS.iso);
+    dir.normalize();
+    this.#controls.target.copy(sphere.center);
+    this.#camera.position.copy(sphere.center).addScaledVector(dir, distance);
+    this.#controls.update();
+    this.#onCameraChange();
+  }
+
+  #onCameraChange() {
+    // Near and far follow the zoom: depth precision at any scale, from millimetres to a wing.
+    const distance = this.#camera.position.distanceTo(this.#controls.target);
+    this.#camera.near = Math.max(distance * 0.002, this.#sceneRadius * 1e-6);
+    this.#camera.far = distance + 4 * this.#sceneRadius;
+    this.#camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  #resize() {
+    const width = Math.max(1, this.#container.clientWidth);
+    const height = Math.max(1, this.#container.clientHeight);
+    this.#renderer.setSize(width, height, false);
+    this.#camera.aspect = width / height;
+    this.#camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  #pickAt(clientX, clientY) {
+    if (!this.#mesh) return null;
+    const rect = this.canvas.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
+    this.#raycaster.setFromCamera(ndc, this.#camera);
+    return this.#picker.pick(this.#raycaster, this.#mesh, (id) => this.#isVisible(id));
+  }
+
+  /** Emits 'hover' { patchId | null, clientX, clientY } and 'pick' { patchId | null, zoom }. */
+  #listenForPicks(canvas) {
+    let down = null;
+    let hoverQueued = null;
+    const emit = (type, detail) => this.dispatchEvent(new CustomEvent(type, { detail }));
+    canvas.addEventListener('pointermove', (event) => {
+      if (event.buttons !== 0) return; // orbiting, not hovering
+      const queued = hoverQueued === null;
+      hoverQueued = { x: event.clientX, y: event.clientY };
+      if (!queued) return;
+      requestAnimationFrame(() => {
+        const { x, y } = hoverQueued;
+        hoverQueued = null;
+        const hit = this.#pickAt(x, y);
+        emit('hover', { patchId: hit ? hit.patchId : null, clientX: x, clientY: y });
+      });
+    });
+    canvas.addEventListener('pointerleave', () => emit('hover', { patchId: null }));
+    canvas.addEventListener('pointerdown', (event) => {
+      down = { x: event.clientX, y: event.clientY, time: performance.now(), button: event.button };
+    });
+    canvas.addEventListener('pointerup', (event) => {
+      // A click, not the end of an orbit: little movement, short press, primary button.
+      if (!down || down.button !== 0) return;
+      const moved = Math.hypot(event.clientX - down.x, event.clientY - down.y);
+      if (moved > 4 || performance.now() - down.time > 600) return;
+      const hit = this.#pickAt(event.clientX, event.clientY);
+      emit('pick', { patchId: hit ? hit.patchId : null });
+    });
+    canvas.addEventListener('dblclick', (event) => {
+      const hit = this.#pickAt(event.clientX, event.clientY);
+      if (hit && hit.patchId >= 0) this.fitPatch(hit.patchId);
+    });
+  }
+}
+
+/** Small axis triad in the lower-left corner, turned with the model, labelled X Y Z. */
+class AxisGizmo {
+  #scene = new THREE.Scene();
+  #camera = new THREE.OrthographicCamera(-1.6, 1.6, 1.6, -1.6, 0.1, 10);
+  #axes = new THREE.Group();
+  #size = 96;
+
+  constructor() {
+    const colors = ['#d62728', '#2ca02c', '#1f77b4'];
+    ['X', 'Y', 'Z'].forEach((label, i) => {
+      const dir = new THREE.Vector3().setComponent(i, 1);
+      const line = new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), dir]);
+      this.#axes.add(new THREE.Line(line, new THREE.LineBasicMaterial({ color: colors[i] })));
+      const sprite = new THREE.Sprite(new THREE.SpriteMaterial({ map: labelTexture(label, colors[i]), depthTest: false }));
+      sprite.position.copy(dir).multiplyScalar(1.3);
+      sprite.scale.setScalar(0.55);
+      this.#axes.add(sprite);
+    });
+    this.#scene.add(this.#axes);
+  }
+
+  setUpAxis(axis) {
+    this.#axes.rotation.set(axis === 'z' ? -Math.PI / 2 : 0, 0, 0);
+  }
+
+  render(renderer, mainCamera) {
+    // Same orientation as the main camera, fixed distance.
+    this.#camera.position.set(0, 0, 4).applyQuaternion(mainCamera.quaternion);
+    this.#camera.quaternion.copy(mainCamera.quaternion);
+    const size = this.#size;
+    renderer.setViewport(0, 0, size, size);
+    renderer.setScissor(0, 0, size, size);
+    renderer.setScissorTest(true);
+    renderer.clearDepth();
+    renderer.render(this.#scene, this.#camera);
+    renderer.setScissorTest(false);
+    const canvas = renderer.domElement;
+    renderer.setViewport(0, 0, canvas.width / renderer.getPixelRatio(), canvas.height / renderer.getPixelRatio());
+  }
+}
+
+function labelTexture(text, color) {
+  const canvas = document.createElement('canvas');
+  canvas.width = 64;
+  canvas.height = 64;
+  const ctx = canvas.getContext('2d');
+  ctx.font = 'bold 44px system-ui, sans-serif';
+  ctx.fillStyle = color;
+  ctx.textAlign = 'center';
+  ctx.textBaseline = 'middle';
+  ctx.fillText(text, 32, 34);
+  const texture = new THREE.CanvasTexture(canvas);
+  texture.colorSpace = THREE.SRGBColorSpace;
+  return texture;
+}
