@@ -1,11 +1,14 @@
-//! Edge adjacency between faces, with boundary and non-manifold edges counted.
+//! Edge adjacency between faces, with boundary, non-manifold and wrongly wound edges counted.
 //!
-//! No paper: faces are grouped by vertex (a compressed vertex→faces table), and each face
-//! edge `(a, b)` looks for the other faces around `a` that also use `b`. An edge with one
-//! other face links the two; with none it is a boundary edge; with two or more it is
-//! non-manifold and links nobody, because a surface cannot be processed across such an
-//! edge as one sheet. Faces that repeat a vertex (collapsed to a line or point) link nobody.
-//! Cost: O(Σ valence²) ≈ linear for meshes of bounded valence; 14 bytes a face of scratch.
+//! No paper: faces are grouped by vertex (a compressed vertex → outgoing-edge table holding
+//! `(face, corner, next vertex)`), and face edge `a → b` finds the faces with `b → a` among
+//! the edges leaving `b` (consistently wound neighbours) and those with `a → b` among the
+//! edges leaving `a` (neighbours wound the other way). An edge with one other face links the
+//! two; with none it is a boundary edge; with two or more it is non-manifold and links
+//! nobody, because a surface cannot be processed across such an edge as one sheet. Faces
+//! that repeat a vertex (collapsed to a line or point) link nobody.
+//! Cost: O(Σ valence²) ≈ linear for meshes of bounded valence; about 30 bytes a face of
+//! scratch, read in contiguous runs per vertex.
 
 use super::TriMesh;
 
@@ -17,15 +20,17 @@ pub const NO_FACE: u32 = u32::MAX;
 #[derive(Debug, Clone, PartialEq)]
 pub struct FaceAdjacency {
     neighbours: Vec<[u32; 3]>,
+    component_of: Vec<u32>,
     boundary_edges: usize,
     non_manifold_edges: usize,
     components: usize,
+    winding_conflicts: usize,
 }
 
-/// Union–find over faces with path halving; used to count edge-connected components.
-struct Components(Vec<u32>);
+/// Union–find over faces with path halving; used to find edge-connected components.
+struct UnionFind(Vec<u32>);
 
-impl Components {
+impl UnionFind {
     fn find(&mut self, mut x: u32) -> u32 {
         while self.0[x as usize] != x {
             let parent = self.0[self.0[x as usize] as usize];
@@ -45,41 +50,63 @@ impl Components {
     }
 }
 
+/// An edge leaving a vertex: the face and corner it starts at (packed as `face·4 + corner`)
+/// and the vertex it goes to.
+#[derive(Clone, Copy, Default)]
+struct OutEdge {
+    face_corner: u32,
+    to: u32,
+}
+
+/// Most faces a mesh may have here: face ids are packed with a 2-bit corner into a `u32`.
+pub const MAX_FACES: usize = (u32::MAX >> 2) as usize;
+
 impl FaceAdjacency {
-    /// Builds the adjacency of `mesh`.
+    /// Builds the adjacency of `mesh` (at most [`MAX_FACES`] faces).
     pub fn new(mesh: &TriMesh) -> Self {
         let triangles = mesh.triangles();
         let n = triangles.len();
+        assert!(
+            n <= MAX_FACES,
+            "{n} faces exceed the adjacency limit of {MAX_FACES}"
+        );
         let collapsed = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
 
-        // Vertex → faces, as offsets into one array (counting sort by vertex).
-        let mut offsets = vec![0u32; mesh.vertex_count() + 1];
+        // Vertex → outgoing edges, as offsets into one array (counting sort by vertex).
+        let vertex_count = mesh.vertex_count();
+        let mut offsets = vec![0u32; vertex_count + 1];
         for t in triangles.iter().filter(|t| !collapsed(t)) {
             for &v in t {
                 offsets[v as usize + 1] += 1;
             }
         }
-        for v in 0..mesh.vertex_count() {
+        for v in 0..vertex_count {
             offsets[v + 1] += offsets[v];
         }
-        let mut faces_of_vertex = vec![0u32; offsets[mesh.vertex_count()] as usize];
+        let mut out = vec![OutEdge::default(); offsets[vertex_count] as usize];
         let mut fill = offsets.clone();
         for (f, t) in triangles.iter().enumerate() {
             if collapsed(t) {
                 continue;
             }
-            for &v in t {
-                faces_of_vertex[fill[v as usize] as usize] = f as u32;
-                fill[v as usize] += 1;
+            for k in 0..3 {
+                let v = t[k] as usize;
+                out[fill[v] as usize] = OutEdge {
+                    face_corner: (f as u32) << 2 | k as u32,
+                    to: t[(k + 1) % 3],
+                };
+                fill[v] += 1;
             }
         }
         drop(fill);
+        let leaving = |v: u32| &out[offsets[v as usize] as usize..offsets[v as usize + 1] as usize];
 
         const UNSEEN: u32 = u32::MAX - 1;
         let mut neighbours = vec![[UNSEEN; 3]; n];
-        let mut components = Components((0..n as u32).collect());
-        let (mut boundary_edges, mut non_manifold_edges) = (0, 0);
-        let mut sharers: Vec<u32> = Vec::with_capacity(8);
+        let mut union_find = UnionFind((0..n as u32).collect());
+        let (mut boundary_edges, mut non_manifold_edges, mut winding_conflicts) = (0, 0, 0);
+        // (face·4 + corner, wound the same way as f) of every other face on the edge.
+        let mut sharers: Vec<(u32, bool)> = Vec::with_capacity(8);
         for f in 0..n {
             let t = triangles[f];
             if collapsed(&t) {
@@ -92,44 +119,61 @@ impl FaceAdjacency {
                 }
                 let (a, b) = (t[k], t[(k + 1) % 3]);
                 sharers.clear();
-                let around_a = &faces_of_vertex
-                    [offsets[a as usize] as usize..offsets[a as usize + 1] as usize];
                 sharers.extend(
-                    around_a
+                    leaving(b)
                         .iter()
-                        .copied()
-                        .filter(|&g| g as usize != f && triangles[g as usize].contains(&b)),
+                        .filter(|e| e.to == a)
+                        .map(|e| (e.face_corner, false)),
+                );
+                sharers.extend(
+                    leaving(a)
+                        .iter()
+                        .filter(|e| e.to == b && (e.face_corner >> 2) as usize != f)
+                        .map(|e| (e.face_corner, true)),
                 );
                 match sharers.as_slice() {
                     [] => {
                         neighbours[f][k] = NO_FACE;
                         boundary_edges += 1;
                     }
-                    &[g] => {
+                    &[(g, same_direction)] => {
+                        let (g, slot) = (g >> 2, (g & 3) as usize);
                         neighbours[f][k] = g;
-                        let slot = edge_slot(&triangles[g as usize], a, b);
                         neighbours[g as usize][slot] = f as u32;
-                        components.union(f as u32, g);
+                        union_find.union(f as u32, g);
+                        winding_conflicts += usize::from(same_direction);
                     }
                     _ => {
                         // Every sharer will meet this edge; mark them all now, count it once.
                         neighbours[f][k] = NO_FACE;
-                        for &g in &sharers {
-                            let slot = edge_slot(&triangles[g as usize], a, b);
-                            neighbours[g as usize][slot] = NO_FACE;
-                            components.union(f as u32, g);
+                        for &(g, _) in &sharers {
+                            neighbours[(g >> 2) as usize][(g & 3) as usize] = NO_FACE;
+                            union_find.union(f as u32, g >> 2);
                         }
                         non_manifold_edges += 1;
                     }
                 }
             }
         }
-        let components = (0..n as u32).filter(|&f| components.find(f) == f).count();
+        drop(out);
+        // Number components 0, 1, … in order of their first face.
+        let mut component_of = vec![u32::MAX; n];
+        let mut components = 0u32;
+        for f in 0..n {
+            let root = union_find.find(f as u32) as usize;
+            if component_of[root] == u32::MAX {
+                component_of[root] = components;
+                components += 1;
+            }
+            component_of[f] = component_of[root];
+        }
         FaceAdjacency {
             neighbours,
+            component_of,
             boundary_edges,
             non_manifold_edges,
-            components,
+            components: components as usize,
+            winding_conflicts,
         }
     }
 
@@ -169,21 +213,27 @@ impl FaceAdjacency {
         self.components
     }
 
+    /// Component id (`0..components()`, in order of first face) of every face.
+    pub fn component_of(&self) -> &[u32] {
+        &self.component_of
+    }
+
+    /// Linked edges whose two faces traverse them in the same direction (one of the two is
+    /// wound the wrong way); [`orient_consistently`](super::orient_consistently) brings this
+    /// to zero wherever the surface is orientable.
+    pub fn winding_conflicts(&self) -> usize {
+        self.winding_conflicts
+    }
+
+    pub(crate) fn set_winding_conflicts(&mut self, count: usize) {
+        self.winding_conflicts = count;
+    }
+
     /// Reorders the slots of `f` after its winding was reversed by swapping corners 1 and 2:
     /// the edges (0,1), (1,2), (2,0) become (0,2), (2,1), (1,0).
     pub(crate) fn flip(&mut self, f: usize) {
         self.neighbours[f].swap(0, 2);
     }
-}
-
-/// The slot of triangle `t` whose edge joins `a` and `b` in either direction.
-fn edge_slot(t: &[u32; 3], a: u32, b: u32) -> usize {
-    (0..3)
-        .find(|&k| {
-            let (p, q) = (t[k], t[(k + 1) % 3]);
-            (p == a && q == b) || (p == b && q == a)
-        })
-        .expect("the face was found through both endpoints of the edge")
 }
 
 #[cfg(test)]
@@ -203,7 +253,7 @@ mod tests {
     fn two_triangles_share_one_edge() {
         let adj = FaceAdjacency::new(&mesh(vec![[0, 1, 2], [2, 1, 3]]));
         assert_eq!(adj.neighbours(0), [NO_FACE, 1, NO_FACE]);
-        assert_eq!(adj.neighbours(1), [NO_FACE, NO_FACE, 0]);
+        assert_eq!(adj.neighbours(1), [0, NO_FACE, NO_FACE]);
         assert_eq!((adj.boundary_edges(), adj.non_manifold_edges()), (4, 0));
         assert_eq!(adj.components(), 1);
     }

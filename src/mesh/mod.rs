@@ -9,7 +9,7 @@ mod stl;
 mod tri_mesh;
 mod weld;
 
-pub use adjacency::{FaceAdjacency, NO_FACE};
+pub use adjacency::{FaceAdjacency, MAX_FACES, NO_FACE};
 pub use face_geometry::FaceGeometry;
 pub use import::{import_stl, ImportedMesh, MeshReport};
 pub use orientation::{orient_consistently, OrientationReport};

@@ -6,6 +6,8 @@
 //! a closed one is turned so its signed volume is positive (normals point outwards); an open
 //! one keeps the winding of the larger share of its area in the file.
 //! A non-orientable patch (a Möbius strip) keeps one edge inconsistent; those are counted.
+//! Fast path: when the adjacency found no wrongly wound and no non-manifold edge, the parts
+//! are the components and only closed ones with negative volume are turned (one pass).
 //! Cost: linear in faces; 5 bytes a face of scratch.
 
 use super::{FaceAdjacency, TriMesh};
@@ -31,6 +33,9 @@ fn uses_directed_edge(t: &[u32; 3], a: u32, b: u32) -> bool {
 /// Reverses faces of `mesh` (and updates `adjacency` to match) until every manifold edge is
 /// traversed in opposite directions by its two faces, where the surface allows it.
 pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> OrientationReport {
+    if adjacency.winding_conflicts() == 0 && adjacency.non_manifold_edges() == 0 {
+        return turn_closed_components_outwards(mesh, adjacency);
+    }
     const UNSET: u8 = 0;
     const KEEP: u8 = 1;
     const FLIP: u8 = 2;
@@ -83,8 +88,7 @@ pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) ->
             let volume: f64 = part
                 .iter()
                 .map(|&f| {
-                    let [a, b, c] = mesh.corners(f as usize).map(|p| p.coords - origin);
-                    let v = a.dot(&b.cross(&c));
+                    let v = signed_volume6(mesh, f as usize, &origin);
                     if state[f as usize] == FLIP {
                         -v
                     } else {
@@ -115,6 +119,46 @@ pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) ->
         }
     }
     debug_assert_eq!(queue.len(), n);
+    adjacency.set_winding_conflicts(report.inconsistent_edges);
+    report
+}
+
+/// Signed volume of tetrahedra from `origin` over a face (positive for an outward face of a
+/// closed surface around `origin`), times 6.
+#[inline]
+fn signed_volume6(mesh: &TriMesh, f: usize, origin: &nalgebra::Vector3<f64>) -> f64 {
+    let [a, b, c] = mesh.corners(f).map(|p| p.coords - origin);
+    a.dot(&b.cross(&c))
+}
+
+/// The fast path: windings already agree, so each component is one orientable part.
+fn turn_closed_components_outwards(
+    mesh: &mut TriMesh,
+    adjacency: &mut FaceAdjacency,
+) -> OrientationReport {
+    let count = adjacency.components();
+    let mut volume = vec![0.0; count];
+    let mut closed = vec![true; count];
+    // Relative to a vertex of each component, for accuracy far from the origin.
+    let mut origin = vec![None; count];
+    for f in 0..mesh.triangle_count() {
+        let c = adjacency.component_of()[f] as usize;
+        let o = *origin[c].get_or_insert(mesh.corners(f)[0].coords);
+        volume[c] += signed_volume6(mesh, f, &o);
+        closed[c] &= !adjacency.neighbours(f).contains(&super::NO_FACE);
+    }
+    let mut report = OrientationReport {
+        orientable_parts: count,
+        ..OrientationReport::default()
+    };
+    for f in 0..mesh.triangle_count() {
+        let c = adjacency.component_of()[f] as usize;
+        if closed[c] && volume[c] < 0.0 {
+            mesh.flip(f);
+            adjacency.flip(f);
+            report.flipped_faces += 1;
+        }
+    }
     report
 }
 

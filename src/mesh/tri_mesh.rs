@@ -27,7 +27,7 @@ pub enum MeshError {
         vertex: usize,
     },
     /// More vertices or triangles than 32-bit indices can address.
-    #[error("the mesh has {count} elements; at most {max} are supported", max = u32::MAX - 1)]
+    #[error("the mesh has {count} elements; at most {max} triangles and vertices are supported", max = super::MAX_FACES)]
     TooLarge {
         /// The element count that overflowed.
         count: usize,
@@ -62,10 +62,10 @@ impl TriMesh {
         if self.triangles.is_empty() {
             return Err(MeshError::NoTriangles);
         }
-        for count in [self.positions.len(), self.triangles.len()] {
-            if count >= u32::MAX as usize {
-                return Err(MeshError::TooLarge { count });
-            }
+        if self.positions.len() >= u32::MAX as usize || self.triangles.len() > super::MAX_FACES {
+            return Err(MeshError::TooLarge {
+                count: self.positions.len().max(self.triangles.len()),
+            });
         }
         if let Some(vertex) = self
             .positions

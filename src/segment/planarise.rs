@@ -14,8 +14,9 @@
 //!   [`RETRY_ROUNDS`] times.
 //! - Repair (no paper): comparing with the running mean alone does not bound the deviation
 //!   from the final mean, which drifts as a patch wraps around a fuselage. After growing,
-//!   faces at or beyond `θmax` from the final mean are released, the largest-area connected
-//!   remainder is kept, and this repeats ([`REPAIR_ROUNDS`] at most). If it has not settled
+//!   faces at or beyond `θmax` from the final mean are released (incrementally, re-checking
+//!   only faces near the limit), the largest-area connected remainder is kept, and this
+//!   repeats ([`REPAIR_ROUNDS`] at most). If it has not settled
 //!   by then, the patch keeps only the connected faces within `θmax / 2` of its mean around
 //!   the best-aligned face: normals inside a cap of radius `θmax/2` have their mean inside
 //!   the cap, so each is within `θmax` of it. Released faces seed the next patches.
@@ -23,13 +24,16 @@
 //!   counting sort over 4096 bins of the rule's key, ties by face index (linear, deterministic).
 
 use super::{Regions, SeedRule};
-use crate::math::{cos, Real, Vector3};
+use crate::math::{angle_between, cos, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry};
 
 /// How often refused candidates are retried against the updated mean.
 pub const RETRY_ROUNDS: usize = 16;
 /// How often a grown patch is trimmed to its final mean before the cap fallback.
 pub const REPAIR_ROUNDS: usize = 8;
+/// Width of the band below θmax that the incremental trim watches (no paper; a tenth of a
+/// typical θmax keeps the list short and the mean rarely drifts that far in one round).
+pub const TRIM_MARGIN_RAD: Real = 0.05;
 const SEED_BINS: usize = 4096;
 const UNASSIGNED: u32 = u32::MAX;
 
@@ -98,6 +102,8 @@ struct Grower<'a> {
     geometry: &'a FaceGeometry,
     region_of: &'a [u32],
     cos_theta: Real,
+    /// cos(θmax − margin): members beyond it are near the limit.
+    near_cos: Real,
     cap_cos: Real,
     patch_of: Vec<u32>,
     /// Per face: the patch attempt that last refused (or visited) it.
@@ -113,14 +119,11 @@ impl Grower<'_> {
         self.geometry.normals()[f] * self.geometry.areas()[f]
     }
 
-    /// Strictly within θmax of the mean `sum / |sum|` (degenerate faces always are).
-    fn fits(&self, f: usize, sum: &Vector3) -> bool {
+    /// Strictly within θmax of the mean `sum / len` (degenerate faces always are).
+    #[inline]
+    fn fits(&self, f: usize, sum: &Vector3, len: Real) -> bool {
         let n = &self.geometry.normals()[f];
-        if *n == Vector3::zeros() {
-            return true;
-        }
-        let len = sum.norm();
-        len == 0.0 || n.dot(sum) > self.cos_theta * len
+        *n == Vector3::zeros() || len == 0.0 || n.dot(sum) > self.cos_theta * len
     }
 
     fn sum_of_members(&self) -> Vector3 {
@@ -151,7 +154,7 @@ impl Grower<'_> {
                     {
                         continue;
                     }
-                    if self.fits(g, &sum) {
+                    if self.fits(g, &sum, sum.norm()) {
                         self.patch_of[g] = p;
                         sum += self.weighted(g);
                         self.members.push(g as u32);
@@ -166,7 +169,7 @@ impl Grower<'_> {
             let refused = std::mem::take(&mut self.refused);
             for &g in &refused {
                 let g = g as usize;
-                if self.patch_of[g] == UNASSIGNED && self.fits(g, &sum) {
+                if self.patch_of[g] == UNASSIGNED && self.fits(g, &sum, sum.norm()) {
                     self.patch_of[g] = p;
                     sum += self.weighted(g);
                     self.members.push(g as u32);
@@ -180,24 +183,20 @@ impl Grower<'_> {
         }
     }
 
-    /// Releases members of `p` for which `keep` is false, then keeps the largest-area
-    /// connected part of the rest (faces of other parts are released too).
-    fn trim(&mut self, p: u32, keep: impl Fn(&Self, usize) -> bool) {
-        let members = std::mem::take(&mut self.members);
-        let mut kept = Vec::with_capacity(members.len());
-        for &f in &members {
-            if keep(self, f as usize) {
-                kept.push(f);
-            } else {
-                self.patch_of[f as usize] = UNASSIGNED;
-                self.released.push(f);
-            }
-        }
-        // Connected parts of what is left, by flood fill within the patch.
+    fn release(&mut self, f: u32) {
+        self.patch_of[f as usize] = UNASSIGNED;
+        self.released.push(f);
+    }
+
+    /// Keeps the largest-area edge-connected part of the members still in patch `p` and
+    /// releases the rest; returns whether any face was released here.
+    fn keep_largest_part(&mut self, p: u32) -> bool {
+        let mut members = std::mem::take(&mut self.members);
+        members.retain(|&f| self.patch_of[f as usize] == p);
         self.attempt += 1;
         let mut best: (Real, usize, usize) = (-1.0, 0, 0);
-        let mut order: Vec<u32> = Vec::with_capacity(kept.len());
-        for &f in &kept {
+        let mut order: Vec<u32> = Vec::with_capacity(members.len());
+        for &f in &members {
             if self.stamp[f as usize] == self.attempt {
                 continue;
             }
@@ -221,26 +220,79 @@ impl Grower<'_> {
                 best = (area, start, order.len());
             }
         }
-        for (i, &f) in order.iter().enumerate() {
-            if i < best.1 || i >= best.2 {
-                self.patch_of[f as usize] = UNASSIGNED;
-                self.released.push(f);
-            }
+        let dropped = order.len() - (best.2 - best.1);
+        for i in (0..best.1).chain(best.2..order.len()) {
+            self.release(order[i]);
         }
-        self.members = order[best.1..best.2].to_vec();
+        order.truncate(best.2);
+        order.drain(..best.1);
+        self.members = order;
+        dropped > 0
     }
 
     /// Makes every member strictly within θmax of the patch's final mean normal.
+    ///
+    /// Each round sums the members once and lists those within [`TRIM_MARGIN_RAD`] of the
+    /// limit; while the mean moves less than the margin only they can fall outside, so
+    /// trimming re-checks just that list. Then the largest connected part is kept.
     fn repair(&mut self, p: u32) {
         for _ in 0..REPAIR_ROUNDS {
-            let sum = self.sum_of_members();
-            if self.members.iter().all(|&f| self.fits(f as usize, &sum)) {
+            let mut sum = self.sum_of_members();
+            let anchor = sum;
+            let anchor_len = anchor.norm();
+            let mut near: Vec<u32> = self
+                .members
+                .iter()
+                .copied()
+                .filter(|&f| {
+                    let n = &self.geometry.normals()[f as usize];
+                    *n != Vector3::zeros() && n.dot(&anchor) <= self.near_cos * anchor_len
+                })
+                .collect();
+            let mut trimmed = false;
+            let mut drifted = false;
+            loop {
+                let len = sum.norm();
+                let before = near.len();
+                let mut kept = Vec::with_capacity(near.len());
+                for &f in &near {
+                    if self.fits(f as usize, &sum, len) {
+                        kept.push(f);
+                    } else {
+                        self.release(f);
+                    }
+                }
+                if kept.len() == before {
+                    break;
+                }
+                for &f in &near {
+                    if self.patch_of[f as usize] == UNASSIGNED {
+                        sum -= self.weighted(f as usize);
+                    }
+                }
+                near = kept;
+                trimmed = true;
+                // The members off the list are safe only while the mean stays within the margin.
+                if angle_between(&anchor, &sum) >= TRIM_MARGIN_RAD {
+                    drifted = true;
+                    break;
+                }
+            }
+            if !trimmed {
                 return;
             }
-            self.trim(p, |s, f| s.fits(f, &sum));
+            let split = self.keep_largest_part(p);
+            if !split && !drifted {
+                return;
+            }
         }
         let sum = self.sum_of_members();
-        if self.members.iter().all(|&f| self.fits(f as usize, &sum)) {
+        let len = sum.norm();
+        if self
+            .members
+            .iter()
+            .all(|&f| self.fits(f as usize, &sum, len))
+        {
             return;
         }
         // Cap fallback: keep faces within θmax/2 of the axis, around the best-aligned face.
@@ -258,19 +310,27 @@ impl Grower<'_> {
                 da.total_cmp(&db).then(b.cmp(&a))
             })
             .expect("a patch always has a member");
-        let cap_cos = self.cap_cos;
-        let best_fits = normals[best as usize].dot(&axis) > cap_cos;
-        self.trim(p, |s, f| {
-            if best_fits {
-                let n = &s.geometry.normals()[f];
-                *n == Vector3::zeros() || n.dot(&axis) > cap_cos
+        let best_fits = normals[best as usize].dot(&axis) > self.cap_cos;
+        for f in std::mem::take(&mut self.members) {
+            let n = &normals[f as usize];
+            let inside = if best_fits {
+                *n == Vector3::zeros() || n.dot(&axis) > self.cap_cos
             } else {
-                f == best as usize
+                f == best
+            };
+            if inside {
+                self.members.push(f);
+            } else {
+                self.release(f);
             }
-        });
+        }
+        self.keep_largest_part(p);
         debug_assert!({
             let sum = self.sum_of_members();
-            self.members.iter().all(|&f| self.fits(f as usize, &sum))
+            let len = sum.norm();
+            self.members
+                .iter()
+                .all(|&f| self.fits(f as usize, &sum, len))
         });
     }
 }
@@ -290,6 +350,7 @@ pub fn planarise(
         geometry,
         region_of: &regions.region_of,
         cos_theta: cos(theta_max_rad),
+        near_cos: cos((theta_max_rad - TRIM_MARGIN_RAD).max(0.0)),
         cap_cos: cos(0.5 * theta_max_rad),
         patch_of: vec![UNASSIGNED; n],
         stamp: vec![0; n],

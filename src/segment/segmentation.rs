@@ -5,7 +5,7 @@
 //! Cost: linear in faces, plus a sort of the patches by area.
 
 use super::{grow_regions, planarise, seed_order, GrowthThreshold, ParamError, SegmentParams};
-use crate::math::{angle_between, Point3, Real, Vector3};
+use crate::math::{acos_clamped, Point3, Real, Vector3};
 use crate::mesh::{write_stl, FaceAdjacency, FaceGeometry, TriMesh};
 
 /// Patch id of faces in dropped (too small) patches.
@@ -131,12 +131,17 @@ pub fn segment_with_progress(
             }
         })
         .collect();
+    // Largest deviation via the smallest cosine per patch, then one acos per patch.
+    let mut min_cos = vec![1.0f64; patches.len()];
     for (f, &id) in patch_of.iter().enumerate() {
         if id != DROPPED && !geometry.is_degenerate(f) {
-            let patch = &mut patches[id as usize];
-            let deviation = angle_between(&geometry.normals()[f], &Vector3::from(patch.normal));
-            patch.max_deviation = patch.max_deviation.max(deviation);
+            let normal = Vector3::from(patches[id as usize].normal);
+            let c = &mut min_cos[id as usize];
+            *c = c.min(geometry.normals()[f].dot(&normal));
         }
+    }
+    for (patch, c) in patches.iter_mut().zip(min_cos) {
+        patch.max_deviation = acos_clamped(c);
     }
     progress("patches", 1.0);
     Ok(Segmentation {

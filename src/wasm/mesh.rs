@@ -16,7 +16,11 @@ impl Mesh {
     /// Reads binary or ASCII STL bytes; `onProgress(stage, fraction)` is optional.
     /// Throws an `Error` naming what is wrong with the file.
     #[wasm_bindgen(js_name = fromStl)]
-    pub fn from_stl(bytes: &[u8], on_progress: Option<js_sys::Function>) -> Result<Mesh, JsError> {
+    pub fn from_stl(
+        bytes: &[u8],
+        #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
+        on_progress: Option<js_sys::Function>,
+    ) -> Result<Mesh, JsError> {
         let imported = import_stl(bytes, &mut progress_fn(on_progress))?;
         Ok(Mesh {
             inner: Rc::new(imported),
@@ -50,6 +54,7 @@ impl Mesh {
     }
 
     /// What was found while reading: counts, area, bounding box, defects (see `MeshReport`).
+    #[wasm_bindgen(unchecked_return_type = "MeshReport")]
     pub fn report(&self) -> Result<JsValue, JsError> {
         Ok(serde_wasm_bindgen::to_value(&self.inner.report)?)
     }
@@ -58,7 +63,8 @@ impl Mesh {
     /// `Error` on bad parameters. `onProgress(stage, fraction)` is optional.
     pub fn segment(
         &self,
-        params: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "SegmentParams")] params: JsValue,
+        #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
         on_progress: Option<js_sys::Function>,
     ) -> Result<Segmentation, JsError> {
         let params = super::segment::params_from_js(params)?;

@@ -10,8 +10,40 @@ pub use segment::Segmentation;
 
 use wasm_bindgen::prelude::*;
 
-#[wasm_bindgen(start)]
-fn start() {
+#[wasm_bindgen(typescript_custom_section)]
+const TYPES: &str = r#"
+/** Called now and then during long work with the stage's name and the fraction done (0..1). */
+export type ProgressCallback = (stage: string, fraction: number) => void;
+/** What reading an STL found. Lengths in the file's unit; area in its square. */
+export interface MeshReport {
+  format: "binary" | "ascii"; triangles: number; vertices: number; area: number;
+  bboxMin: [number, number, number]; bboxMax: [number, number, number];
+  boundaryEdges: number; nonManifoldEdges: number; degenerateTriangles: number;
+  skippedTriangles: number; components: number; trailingBytes: number;
+  flippedTriangles: number; inconsistentEdges: number;
+}
+/** Spraying parameters (eq. 9): thicknesses in one unit. */
+export interface SprayParams { meanThickness: number; allowedDeviation: number; minThickness: number }
+/** Grinding parameters (eq. 4): lengths in the mesh's unit; minPressureRatio in (0, 1). */
+export interface GrindParams { indentationDepth: number; minPressureRatio: number; contactWidth: number }
+/** Exactly one of angleThreshold (rad), curvatureThreshold (1/length), spray, grind;
+ *  thetaMax (rad, default 1), minAreaRatio (default 0.1), seedRule (default "flattest"). */
+export interface SegmentParams {
+  angleThreshold?: number; curvatureThreshold?: number; spray?: SprayParams; grind?: GrindParams;
+  thetaMax?: number; minAreaRatio?: number; seedRule?: "lowestIndex" | "flattest" | "largestArea";
+}
+/** The growing threshold: radians for "angle", 1 / length for "curvature". */
+export interface Threshold { kind: "angle" | "curvature"; value: number }
+/** One kept patch; ids by decreasing area. */
+export interface Patch {
+  id: number; triangleCount: number; area: number; normal: [number, number, number];
+  maxDeviation: number; centroid: [number, number, number];
+}
+"#;
+
+/// Runs once when the module is instantiated: panics (bugs) then log their message.
+#[wasm_bindgen(start, js_name = installPanicHook)]
+pub fn install_panic_hook() {
     console_error_panic_hook::set_once();
 }
 
@@ -27,8 +59,10 @@ pub fn wasm_memory_bytes() -> f64 {
 
 /// The growing threshold the given segmentation parameters stand for:
 /// `{ kind: "angle" | "curvature", value }`. Throws an `Error` naming the bad parameter.
-#[wasm_bindgen(js_name = deriveThreshold)]
-pub fn derive_threshold(params: JsValue) -> Result<JsValue, JsError> {
+#[wasm_bindgen(js_name = deriveThreshold, unchecked_return_type = "Threshold")]
+pub fn derive_threshold(
+    #[wasm_bindgen(unchecked_param_type = "SegmentParams")] params: JsValue,
+) -> Result<JsValue, JsError> {
     let params = segment::params_from_js(params)?;
     let threshold = params.validate()?;
     Ok(serde_wasm_bindgen::to_value(&threshold)?)

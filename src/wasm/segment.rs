@@ -67,6 +67,7 @@ impl Segmentation {
 
     /// `{ id, triangleCount, area, normal: [x,y,z], maxDeviation, centroid: [x,y,z] }[]`,
     /// largest area first.
+    #[wasm_bindgen(unchecked_return_type = "Patch[]")]
     pub fn patches(&self) -> Result<JsValue, JsError> {
         Ok(serde_wasm_bindgen::to_value(&self.inner.patches)?)
     }
