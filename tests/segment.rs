@@ -242,8 +242,13 @@ fn patch_stl_holds_exactly_the_patch_faces() {
     assert_eq!(back.report.triangles, 2);
     assert_near!(back.report.area, 1.0, 1e-12);
     assert!(seg.patch_stl(&m.mesh, 6).is_none());
-    // Every cube edge is a border between two patches: 12 segments.
-    assert_eq!(seg.border_edges(&m.mesh, &m.adjacency).len(), 12);
+    // Every cube edge is a border between two different patches: 12 segments.
+    let borders = seg.border_edges(&m.mesh, &m.adjacency);
+    assert_eq!(borders.len(), 12);
+    assert!(borders
+        .iter()
+        .all(|e| e.patches[0] != e.patches[1] && e.patches.iter().all(|&p| p >= 0)));
+    assert_eq!(seg.border_patches(&m.mesh, &m.adjacency).len(), 24);
 }
 
 #[test]

@@ -3,14 +3,18 @@
 // the same package only for deriveThreshold(), which is cheap and must answer while the
 // worker is busy (live threshold display as the user types).
 //
-// Worker protocol (one request at a time is the caller's job; ids make replies unambiguous):
-//   page → worker  { id, op, ...args }                       ArrayBuffers are transferred
-//   worker → page  { type: 'ready' } | { type: 'fatal', message }         once, after init
-//                  { id, type: 'progress', stage, fraction }               any number
-//                  { id, type: 'done', result }                            exactly one of these
-//                  { id, type: 'error', message, broken }                  two per request
-// `broken` means the wasm instance may be corrupt (a trap); the engine then replaces the
-// worker, which also drops the mesh it held (hasMesh turns false).
+// Worker protocol (main.js sends one request at a time; ids tie replies to requests):
+//   page → worker  { id, op: 'open', buffer, name, params }   the file's ArrayBuffer is transferred
+//                  { id, op: 'segment', params }
+//                  { id, op: 'patchStl', patchId }
+//                  { id, op: 'zip', names: [{ patchId, fileName }] }
+//   worker → page  { type: 'ready' } | { type: 'fatal', message }     once, after wasm init
+//                  { id, type: 'progress', stage, fraction }           any number, then
+//                  { id, type: 'done', result }                        either this
+//                  { id, type: 'error', message, broken }              or this
+// Results carry typed arrays whose buffers are transferred back. `broken` means the wasm
+// instance may be corrupt (a trap or out of memory): the engine then replaces the worker,
+// which drops the mesh it held (hasMesh turns false). Cancel also replaces the worker.
 import init, { deriveThreshold as coreDeriveThreshold } from './pkg/skinpath.js';
 
 /** Raised for requests abandoned by cancel(); callers treat it as "nothing happened". */

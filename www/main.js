@@ -3,60 +3,22 @@
 import { Engine, CancelledError } from './engine.js';
 import { Viewer, patchColor } from './viewer.js';
 import { download, fileStem, patchTable, tableToCsv, tableToJson } from './exports.js';
+import {
+  ANGLE_FIELDS, COMMON_FIELDS, CRITERION_FIELDS, DEFAULTS, DISPLAY_KEYS, FIELD_LABELS, SAMPLES,
+  coreParams, inWords, loadStoredSettings, persistSettings, sanitize, settingsFromHash,
+} from './settings.js';
 
 /**
  * Largest WebAssembly memory the page will ask for. wasm32 memory tops out at 4 GiB and
  * browsers often stop at 2 GiB, so files whose estimate exceeds this are refused up front.
  */
-export const MAX_WASM_BYTES = 2 * 1024 ** 3;
+const MAX_WASM_BYTES = 2 * 1024 ** 3;
 /** Core memory per triangle, beyond the file's own bytes (welded mesh, adjacency, results). */
 const BYTES_PER_TRIANGLE = 200;
 /** Typical size of one ASCII STL facet, used to guess the triangle count of ASCII files. */
 const ASCII_BYTES_PER_TRIANGLE = 250;
 /** Rows drawn in the patch table; the rest are summarised (the exports hold them all). */
 const MAX_TABLE_ROWS = 2000;
-const STORAGE_KEY = 'skinpath.settings.v1';
-
-const SAMPLES = [
-  { id: 'bwb', name: 'Blended-wing body', file: 'bwb_4464_pygeo_ascii.stl', up: 'y', unit: 'm',
-    meta: '4,464 triangles, ASCII, pyGeo (Apache-2.0)' },
-  { id: 'orion', name: 'Orion capsule', file: 'orion_51736_nasa.stl', up: 'y', unit: 'ft',
-    meta: '51,736 triangles, binary, NASA 3D Resources' },
-];
-
-// The paper's defaults (α 0.35 rad, θmax 1 rad, ε 10 %); spray and grind values are examples.
-const DEFAULTS = Object.freeze({
-  criterion: 'angle',
-  angleThreshold: 0.35,
-  curvatureThreshold: 0.05,
-  meanThickness: 100,
-  allowedDeviation: 10,
-  minThickness: 96,
-  indentationDepth: 0.5,
-  minPressureRatio: 0.8,
-  contactWidth: 20,
-  thetaMax: 1,
-  minAreaRatio: 0.1,
-  unit: 'mm',
-  angleUnit: 'rad',
-  up: 'z',
-  sample: 'bwb',
-});
-const CRITERION_FIELDS = {
-  spray: ['meanThickness', 'allowedDeviation', 'minThickness'],
-  grind: ['indentationDepth', 'minPressureRatio', 'contactWidth'],
-  angle: ['angleThreshold'],
-  curvature: ['curvatureThreshold'],
-};
-const COMMON_FIELDS = ['thetaMax', 'minAreaRatio'];
-const ANGLE_FIELDS = new Set(['angleThreshold', 'thetaMax']);
-const DISPLAY_KEYS = ['unit', 'angleUnit', 'up'];
-const FIELD_LABELS = {
-  meanThickness: 'mean thickness', allowedDeviation: 'allowed deviation', minThickness: 'minimum thickness',
-  indentationDepth: 'indentation depth', minPressureRatio: 'minimum pressure ratio', contactWidth: 'contact width',
-  angleThreshold: 'angle threshold', curvatureThreshold: 'curvature threshold',
-  thetaMax: 'maximum deviation θmax', minAreaRatio: 'minimum patch area',
-};
 
 const $ = (id) => document.getElementById(id);
 const form = $('seg-form');
@@ -117,78 +79,6 @@ function thresholdText({ kind, value }) {
   return `κ = ${num(value)} ${unitOf.curvature()}`;
 }
 
-// ---------------------------------------------------------------- settings
-
-function loadStoredSettings() {
-  try {
-    return JSON.parse(localStorage.getItem(STORAGE_KEY) ?? '{}') ?? {};
-  } catch {
-    return {}; // storage disabled or corrupt: start from the defaults
-  }
-}
-
-/** Settings from a URL hash like #criterion=angle&angleThreshold=0.35&… (unknown keys ignored). */
-function settingsFromHash(hash) {
-  const out = {};
-  const query = new URLSearchParams(hash.replace(/^#/, ''));
-  for (const [key, value] of query) {
-    if (!(key in DEFAULTS)) continue;
-    if (typeof DEFAULTS[key] === 'number') {
-      const n = Number(value);
-      if (value.trim() !== '' && Number.isFinite(n)) out[key] = n;
-    } else {
-      out[key] = value;
-    }
-  }
-  return sanitize(out);
-}
-
-/** Drops values the page cannot show (a hand-edited URL must not break the page). */
-function sanitize(s) {
-  const allowed = { criterion: Object.keys(CRITERION_FIELDS), unit: ['mm', 'm', 'in', 'ft'],
-    angleUnit: ['rad', 'deg'], up: ['y', 'z'], sample: [...SAMPLES.map((x) => x.id), ''] };
-  const out = {};
-  for (const [key, value] of Object.entries(s)) {
-    if (!(key in DEFAULTS) || typeof value !== typeof DEFAULTS[key]) continue;
-    if (allowed[key] && !allowed[key].includes(value)) continue;
-    out[key] = value;
-  }
-  return out;
-}
-
-function settingsHash(s) {
-  const query = new URLSearchParams();
-  query.set('criterion', s.criterion);
-  for (const key of [...CRITERION_FIELDS[s.criterion], ...COMMON_FIELDS, ...DISPLAY_KEYS]) query.set(key, String(s[key]));
-  if (s.sample) query.set('sample', s.sample);
-  return `#${query}`;
-}
-
-function persistSettings() {
-  try {
-    localStorage.setItem(STORAGE_KEY, JSON.stringify(state.settings));
-  } catch {
-    // private mode or quota: the URL hash still carries the settings
-  }
-  const hash = settingsHash(state.settings);
-  if (location.hash !== hash) history.replaceState(null, '', hash);
-}
-
-/** The object the core takes: exactly one criterion, plus thetaMax and minAreaRatio. */
-function coreParams(s) {
-  const params = {};
-  if (s.criterion === 'angle') params.angleThreshold = s.angleThreshold;
-  else if (s.criterion === 'curvature') params.curvatureThreshold = s.curvatureThreshold;
-  else if (s.criterion === 'spray') {
-    params.spray = { meanThickness: s.meanThickness, allowedDeviation: s.allowedDeviation, minThickness: s.minThickness };
-  } else {
-    params.grind = { indentationDepth: s.indentationDepth, minPressureRatio: s.minPressureRatio, contactWidth: s.contactWidth };
-  }
-  params.thetaMax = s.thetaMax;
-  params.minAreaRatio = s.minAreaRatio;
-  return params;
-}
-
 // ---------------------------------------------------------------- the form
 
 function input(name) {
@@ -218,6 +108,7 @@ function renderForm() {
     el.dataset.shown = el.value;
     el.dataset.exact = String(s[name]);
   }
+  form.elements.seedRule.value = s.seedRule;
   $('unit-select').value = s.unit;
   $('angle-unit-select').value = s.angleUnit;
   $('up-select').value = s.up;
@@ -237,7 +128,11 @@ function renderUnits() {
  * Returns { settings, params, threshold } or { error }.
  */
 function readForm() {
-  const s = { ...state.settings, criterion: form.elements.criterion.value || state.settings.criterion };
+  const s = {
+    ...state.settings,
+    criterion: form.elements.criterion.value || state.settings.criterion,
+    seedRule: form.elements.seedRule.value || state.settings.seedRule,
+  };
   const names = [...CRITERION_FIELDS[s.criterion], ...COMMON_FIELDS];
   const problems = new Map();
   for (const name of names) {
@@ -279,10 +174,11 @@ function readForm() {
   }
   if (problems.size) {
     const message = problems.get('_core') ?? [...problems.values()].find(Boolean);
-    return { error: message };
+    return { error: inWords(message) };
   }
   return { settings: s, params, threshold };
 }
+
 
 function validateForm() {
   const result = readForm();
@@ -299,7 +195,7 @@ function onFormInput() {
   }
   if (result.error) return;
   state.settings = result.settings;
-  persistSettings();
+  persistSettings(state.settings);
 }
 
 let autoSegmentTimer = 0;
@@ -325,7 +221,19 @@ function setBusy(busy) {
   form.setAttribute('aria-busy', String(busy));
 }
 
-function showProgress(stage, fraction) {
+// The core's progress stages, in words (unknown ones are shown as they come).
+const STAGE_NAMES = {
+  parse: 'Reading the STL',
+  adjacency: 'Finding neighbouring triangles',
+  orient: 'Making the winding consistent',
+  geometry: 'Computing normals and areas',
+  regions: 'Growing regions',
+  planarise: 'Splitting regions into near-planar patches',
+  patches: 'Measuring the patches',
+};
+
+function showProgress(rawStage, fraction) {
+  const stage = STAGE_NAMES[rawStage] ?? rawStage.charAt(0).toUpperCase() + rawStage.slice(1);
   $('progress-stage').textContent = stage;
   const bar = $('progress-bar');
   if (fraction === null || fraction === undefined) {
@@ -338,9 +246,16 @@ function showProgress(stage, fraction) {
   setStatus(`${stage}…`);
 }
 
-/** Runs jobs one after another; `fn(progress)` may throw, errors land in the alert. */
+/**
+ * Runs jobs one after another; `fn(progress, checkpoint)` may throw, errors land in the alert.
+ * `checkpoint()` throws CancelledError once Cancel was pressed: jobs call it after awaiting
+ * anything that is not the engine (reading a file), since only the engine stops by itself.
+ */
 function enqueue(label, fn) {
   const myEpoch = epoch;
+  const checkpoint = () => {
+    if (epoch !== myEpoch) throw new CancelledError();
+  };
   queuedJobs++;
   setBusy(true);
   const run = async () => {
@@ -350,7 +265,9 @@ function enqueue(label, fn) {
     progressTimer = setTimeout(() => { $('progress').hidden = false; }, 150);
     showProgress(label, null);
     try {
-      await fn((stage, fraction) => showProgress(stage, fraction));
+      await fn((stage, fraction) => {
+        if (epoch === myEpoch) showProgress(stage, fraction);
+      }, checkpoint);
     } catch (error) {
       if (error instanceof CancelledError) {
         setStatus('Cancelled. The model on screen is unchanged.');
@@ -398,7 +315,7 @@ async function refusalForSize(file) {
   const startsWithSolid = new TextDecoder().decode(head.subarray(0, 5)).toLowerCase() === 'solid';
   const declared = head.length === 84 ? new DataView(head.buffer).getUint32(80, true) : -1;
   const ascii = startsWithSolid && 84 + 50 * declared !== file.size;
-  const triangles = ascii ? file.size / ASCII_BYTES_PER_TRIANGLE : file.size / 50;
+  const triangles = ascii ? file.size / ASCII_BYTES_PER_TRIANGLE : Math.max(0, file.size - 84) / 50;
   const needed = file.size + BYTES_PER_TRIANGLE * triangles;
   if (needed <= MAX_WASM_BYTES) return null;
   return `"${file.name}" is ${bytesText(file.size)} (about ${integer.format(Math.round(triangles))} triangles). ` +
@@ -416,26 +333,28 @@ async function readSource(source, progress) {
   }
   const response = await fetch(source.url);
   if (!response.ok) throw new Error(`The sample ${source.url} could not be loaded (HTTP ${response.status}).`);
+  // Content-Length is only a hint for the bar: a compressing server sends fewer bytes.
   const total = Number(response.headers.get('Content-Length')) || 0;
   if (!total || !response.body) return response.arrayBuffer();
-  const bytes = new Uint8Array(total);
+  const chunks = [];
   let received = 0;
   const reader = response.body.getReader();
   for (;;) {
     const { done, value } = await reader.read();
     if (done) break;
-    bytes.set(value, received);
+    chunks.push(value);
     received += value.length;
-    progress('Downloading the sample', received / total);
+    progress('Downloading the sample', Math.min(received / total, 1));
   }
-  return bytes.buffer;
+  return new Blob(chunks).arrayBuffer();
 }
 
 /** Opens a file or sample: parse + segment in the worker; the old model stays on failure. */
 function openSource(source, name) {
-  return enqueue(`Opening ${name}`, async (progress) => {
+  return enqueue(`Opening ${name}`, async (progress, checkpoint) => {
     hideAlert();
     const buffer = await readSource(source, progress);
+    checkpoint();
     const validated = validateForm();
     const params = validated.error ? null : validated.params;
     let result;
@@ -447,15 +366,29 @@ function openSource(source, name) {
     }
     state.model = { name, source, report: result.report, triangleCount: result.triangleCount, vertexCount: result.vertexCount };
     state.settings.sample = source.kind === 'sample' ? source.id : '';
-    persistSettings();
+    let upNote = '';
+    if (source.kind === 'file') {
+      const up = guessUpAxis(result.report);
+      if (up !== state.settings.up) setUpAxis(up);
+      upNote = ` Shown ${up.toUpperCase()} up (its thinnest direction); U switches.`;
+    }
+    persistSettings(state.settings);
     renderModel();
     progress('Drawing', null);
     showSegmentation(result, params, { keepView: false });
-    if (result.segmentError) $('params-error').textContent = result.segmentError;
+    if (result.segmentError) $('params-error').textContent = inWords(result.segmentError);
     const seconds = (ms) => `${num(ms / 1000, 2)} s`;
     setStatus(`Opened ${name} in ${seconds(result.timings.parseMs)}` +
-      (result.segmentation ? `; ${result.segmentation.patchCount} patches in ${seconds(result.timings.segmentMs)}.` : '.'));
+      (result.segmentation ? `; ${result.segmentation.patchCount} patches in ${seconds(result.timings.segmentMs)}.` : '.') + upNote);
   });
+}
+
+/**
+ * Files come Y-up or Z-up. An aircraft is flattest along its up axis, so the smaller of the
+ * y and z extents of the bounding box is taken as up (no paper; right for all sample meshes).
+ */
+function guessUpAxis({ bboxMin, bboxMax }) {
+  return bboxMax[2] - bboxMin[2] < bboxMax[1] - bboxMin[1] ? 'z' : 'y';
 }
 
 async function openFile(file) {
@@ -483,23 +416,34 @@ function openSample(id, { applyDisplay = true } = {}) {
   return openSource({ kind: 'sample', id: sample.id, url: `./samples/${sample.file}` }, sample.file);
 }
 
-/** Queues one re-segmentation with the settings current when it starts. */
-function requestSegmentation() {
+/**
+ * Queues one re-segmentation with the settings current when it starts; without `force` it
+ * is skipped when they are those of the segmentation on screen.
+ */
+function requestSegmentation({ force = false } = {}) {
   if (!state.model || segmentationQueued) return;
   segmentationQueued = true;
-  enqueue('Segmenting', async (progress) => {
+  enqueue('Segmenting', async (progress, checkpoint) => {
     segmentationQueued = false;
     const validated = validateForm();
     if (validated.error || !state.model) return;
+    const same = JSON.stringify(validated.params) === JSON.stringify(state.segmentedParams);
+    if (same && !force && engine.hasMesh) return;
     hideAlert();
     let result;
     if (!engine.hasMesh) {
       // After Cancel or an engine failure the worker is new: give it the model again.
       const buffer = await readSource(state.model.source, progress);
+      checkpoint();
       result = await engine.open(buffer, state.model.name, validated.params, progress);
-      if (result.segmentError) throw new Error(result.segmentError);
+      if (result.segmentError) throw new Error(`The segmentation failed: ${inWords(result.segmentError)}`);
     } else {
-      result = await engine.segment(validated.params, progress);
+      try {
+        result = await engine.segment(validated.params, progress);
+      } catch (error) {
+        if (error instanceof CancelledError) throw error;
+        throw new Error(`The segmentation failed: ${inWords(error.message).replace(/\.?$/, '.')} The patches on screen are unchanged.`);
+      }
     }
     progress('Drawing', null);
     showSegmentation(result, validated.params, { keepView: true });
@@ -530,6 +474,7 @@ function renderWarnings(r) {
   if (r.nonManifoldEdges) items.push(`${n(r.nonManifoldEdges, 'edge is', 'edges are')} shared by more than two triangles (non-manifold), as where separate parts touch.`);
   if (r.components > 1) items.push(`The model has ${integer.format(r.components)} separate shells that do not share edges; each is segmented on its own.`);
   if (r.flippedTriangles) items.push(`${n(r.flippedTriangles, 'triangle was', 'triangles were')} wound the other way round than their neighbours and ${r.flippedTriangles === 1 ? 'has' : 'have'} been re-wound.`);
+  if (r.inconsistentEdges) items.push(`${n(r.inconsistentEdges, 'edge joins', 'edges join')} triangles whose winding could not be made consistent (the surface is not orientable there).`);
   if (r.trailingBytes) items.push(`${n(r.trailingBytes, 'byte', 'bytes')} after the last triangle were ignored.`);
   const list = $('warnings');
   list.replaceChildren(...items.map((text) => Object.assign(document.createElement('li'), { textContent: text })));
@@ -560,6 +505,7 @@ function showSegmentation(result, params, { keepView }) {
   state.selected = null;
   state.hovered = null;
   state.hidden = $('show-dropped').checked ? new Set() : new Set([-1]);
+  $('hover-tip').hidden = true;
   viewer.setModel(result.display, { keepView });
   syncViewer();
   $('stat-memory').textContent = bytesText(result.memoryBytes);
@@ -621,8 +567,8 @@ function renderPatchTable() {
       idCell,
       cell(integer.format(p.triangleCount)),
       cell(num(p.area)),
-      cell(p.normal.map((c) => c.toFixed(2)).join(', '), 'normal'),
-      cell(angleText(p.maxDeviation, 3).replace(/ rad$|°$/, '')),
+      cell(p.normal.map((c) => (Math.abs(c) < 0.005 ? 0 : c).toFixed(2)).join(',\u2009'), 'normal'),
+      cell(state.settings.angleUnit === 'deg' ? ((p.maxDeviation * 180) / Math.PI).toFixed(1) : p.maxDeviation.toFixed(3)),
       actions,
     );
     return tr;
@@ -720,6 +666,18 @@ function updateExportButtons() {
 
 // ---------------------------------------------------------------- exports
 
+/**
+ * After Cancel or an engine failure the worker is new and empty: give it the model and the
+ * segmentation on screen again (same input, same parameters, so the same patch ids).
+ */
+async function restoreEngine(progress, checkpoint) {
+  if (engine.hasMesh) return;
+  const buffer = await readSource(state.model.source, progress);
+  checkpoint();
+  const result = await engine.open(buffer, state.model.name, state.segmentedParams, progress);
+  if (result.segmentError) throw new Error(result.segmentError);
+}
+
 function currentTable() {
   return patchTable({
     model: state.model,
@@ -732,7 +690,8 @@ function currentTable() {
 function exportSelected() {
   const id = state.selected;
   const stem = fileStem(state.model.name);
-  enqueue(`Writing patch ${id}`, async () => {
+  enqueue(`Writing patch ${id}`, async (progress, checkpoint) => {
+    await restoreEngine(progress, checkpoint);
     const bytes = await engine.patchStl(id);
     download(bytes, `${stem}_patch${id}.stl`, 'model/stl');
     setStatus(`Saved ${stem}_patch${id}.stl.`);
@@ -742,7 +701,8 @@ function exportSelected() {
 function exportZip() {
   const stem = fileStem(state.model.name);
   const names = state.segmentation.patches.map((p) => ({ patchId: p.id, fileName: `${stem}_patch${p.id}.stl` }));
-  enqueue('Writing the archive', async (progress) => {
+  enqueue('Writing the archive', async (progress, checkpoint) => {
+    await restoreEngine(progress, checkpoint);
     const bytes = await engine.zipPatches(names, progress);
     download(bytes, `${stem}_patches.zip`, 'application/zip');
     setStatus(`Saved ${stem}_patches.zip with ${names.length} STL files.`);
@@ -752,12 +712,14 @@ function exportZip() {
 function exportFiles() {
   const stem = fileStem(state.model.name);
   const ids = state.segmentation.patches.map((p) => p.id);
-  enqueue('Writing patch files', async (progress) => {
+  enqueue('Writing patch files', async (progress, checkpoint) => {
+    await restoreEngine(progress, checkpoint);
     for (const [i, id] of ids.entries()) {
       progress('Writing patch files', i / ids.length);
       download(await engine.patchStl(id), `${stem}_patch${id}.stl`, 'model/stl');
       // Browsers drop downloads started in the same instant.
       await new Promise((resolve) => setTimeout(resolve, 150));
+      checkpoint();
     }
     setStatus(`Saved ${ids.length} STL files (the browser may ask once to allow several downloads).`);
   });
@@ -817,6 +779,7 @@ function wireEvents() {
     button.lastChild.textContent = sample.meta;
     button.addEventListener('click', () => {
       $('samples-menu').open = false;
+      $('samples-menu').querySelector('summary').focus(); // the clicked item is hidden now
       setBusy(true);
       openSample(sample.id);
     });
@@ -840,20 +803,20 @@ function wireEvents() {
       return;
     }
     state.settings = result.settings;
-    persistSettings();
-    requestSegmentation();
+    persistSettings(state.settings);
+    requestSegmentation({ force: true });
   });
   $('defaults-button').addEventListener('click', () => {
     const keep = Object.fromEntries([...DISPLAY_KEYS, 'sample'].map((k) => [k, state.settings[k]]));
     state.settings = { ...DEFAULTS, ...keep };
     renderForm();
-    persistSettings();
+    persistSettings(state.settings);
     requestSegmentation();
   });
 
   $('unit-select').addEventListener('change', (event) => {
     state.settings.unit = event.target.value;
-    persistSettings();
+    persistSettings(state.settings);
     refreshUnits();
   });
   $('angle-unit-select').addEventListener('change', (event) => {
@@ -861,7 +824,7 @@ function wireEvents() {
     const current = readForm();
     if (!current.error) state.settings = current.settings;
     state.settings.angleUnit = event.target.value;
-    persistSettings();
+    persistSettings(state.settings);
     renderForm();
     refreshUnits();
   });
@@ -941,7 +904,7 @@ function wireEvents() {
 function setUpAxis(axis) {
   state.settings.up = axis;
   $('up-select').value = axis;
-  persistSettings();
+  persistSettings(state.settings);
   viewer.setUpAxis(axis);
 }
 

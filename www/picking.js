@@ -38,19 +38,23 @@ export class PatchPicker {
     return lo === starts.length - 1 ? -1 : lo;
   }
 
+  /** Builds the BVH now (idempotent; a no-op once the geometry is gone). */
+  prepare() {
+    if (this.#bvh || !this.#position) return;
+    // A group-free geometry sharing the positions: groups change with visibility, and
+    // a BVH built over groups would only cover the triangles visible at build time.
+    const geometry = new BufferGeometry();
+    geometry.setAttribute('position', this.#position);
+    this.#bvh = new MeshBVH(geometry, { indirect: true });
+  }
+
   /**
    * Nearest hit along the raycaster's ray on a visible bucket of `object`:
    * { patchId } (-1 = dropped triangle) or null when nothing visible is hit.
    */
   pick(raycaster, object, isVisible) {
     if (!this.#position) return null;
-    if (!this.#bvh) {
-      // A group-free geometry sharing the positions: groups change with visibility, and
-      // a BVH built over groups would only cover the triangles visible at build time.
-      const geometry = new BufferGeometry();
-      geometry.setAttribute('position', this.#position);
-      this.#bvh = new MeshBVH(geometry, { indirect: true });
-    }
+    this.prepare();
     this.#inverse.copy(object.matrixWorld).invert();
     this.#ray.copy(raycaster.ray).applyMatrix4(this.#inverse);
     const hits = this.#bvh.raycast(this.#ray, DoubleSide);

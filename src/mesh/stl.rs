@@ -37,13 +37,24 @@ pub enum StlError {
         /// File size in bytes.
         len: usize,
     },
-    /// A binary header whose triangle count the file cannot hold, and no ASCII text either.
-    #[error("not an STL file, or a corrupt one: its binary header claims {declared} triangles, which need {needed} bytes, but the file has {len}")]
-    CountTooLarge {
+    /// Neither ASCII nor binary: the binary header's count does not fit and the bytes after
+    /// it are not triangles.
+    #[error("not an STL file: it does not start with 'solid', and read as binary STL its header would claim {declared} triangles ({needed} bytes) for a file of {len} bytes")]
+    NotStl {
         /// Triangle count in the header.
         declared: u64,
         /// Bytes that count needs.
         needed: u64,
+        /// File size in bytes.
+        len: usize,
+    },
+    /// A binary file of whole triangles whose header claims more of them than it holds.
+    #[error("corrupt binary STL: the header says {declared} triangles, more than the file can hold ({present} whole triangles in {len} bytes); the count is wrong or the file was cut short")]
+    CountTooLarge {
+        /// Triangle count in the header.
+        declared: u64,
+        /// Whole triangles present.
+        present: u64,
         /// File size in bytes.
         len: usize,
     },
@@ -171,21 +182,42 @@ pub fn read_stl_with_progress(
         return read_binary(bytes, declared as usize, progress);
     }
     let present = (len - BINARY_PREAMBLE as u64) / BINARY_TRIANGLE_BYTES as u64;
-    // A count far beyond the size is a foreign file or a corrupt header, not a cut-off download.
-    if declared > 0 && present > 0 && needed <= len.saturating_mul(16) {
+    let whole = (len - BINARY_PREAMBLE as u64) % BINARY_TRIANGLE_BYTES as u64 == 0;
+    if !looks_like_triangles(&bytes[BINARY_PREAMBLE..]) {
+        Err(StlError::NotStl {
+            declared,
+            needed,
+            len: bytes.len(),
+        })
+    } else if whole {
+        Err(StlError::CountTooLarge {
+            declared,
+            present,
+            len: bytes.len(),
+        })
+    } else {
         Err(StlError::Truncated {
             declared,
             present,
             len: bytes.len(),
             needed,
         })
-    } else {
-        Err(StlError::CountTooLarge {
-            declared,
-            needed,
-            len: bytes.len(),
-        })
     }
+}
+
+/// Whether the first (up to 256) 50-byte records after a binary header hold finite,
+/// plausibly sized corners, as real triangles do and foreign bytes rarely do (no paper; a
+/// plausibility test that tells a cut-off STL from another kind of file).
+fn looks_like_triangles(data: &[u8]) -> bool {
+    const PLAUSIBLE: f32 = 1e20;
+    let records: Vec<&[u8]> = data.chunks_exact(BINARY_TRIANGLE_BYTES).take(256).collect();
+    !records.is_empty()
+        && records.iter().all(|r| {
+            r[12..48].chunks_exact(4).all(|b| {
+                let c = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+                c.is_finite() && c.abs() < PLAUSIBLE
+            })
+        })
 }
 
 fn starts_with_solid(bytes: &[u8]) -> bool {
@@ -492,8 +524,11 @@ mod tests {
         ));
         assert!(matches!(
             read_stl(&binary(u32::MAX, 1, 0)),
-            Err(StlError::CountTooLarge { .. })
+            Err(StlError::CountTooLarge { present: 1, .. })
         ));
+        let mut foreign = binary(1000, 0, 120);
+        foreign[84..].fill(0xff);
+        assert!(matches!(read_stl(&foreign), Err(StlError::NotStl { .. })));
     }
 
     #[test]

@@ -15,4 +15,4 @@ pub use params::{
 };
 pub use planarise::{planarise, seed_order, Patches};
 pub use region_growing::{grow_regions, Regions};
-pub use segmentation::{segment, segment_with_progress, Patch, Segmentation, DROPPED};
+pub use segmentation::{segment, segment_with_progress, BorderEdge, Patch, Segmentation, DROPPED};

@@ -29,6 +29,15 @@ pub struct Patch {
     pub centroid: [Real; 3],
 }
 
+/// An edge on a patch border.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BorderEdge {
+    /// Its two vertices.
+    pub vertices: [u32; 2],
+    /// The patch ids on its two sides ([`DROPPED`] for a dropped patch or no face).
+    pub patches: [i32; 2],
+}
+
 /// The result of [`segment`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Segmentation {
@@ -177,21 +186,28 @@ impl Segmentation {
         Some(write_stl(faces.into_iter().map(|f| mesh.corners(f))))
     }
 
-    /// Edges where the patch changes (or a kept patch meets the mesh boundary), as vertex
-    /// pairs: each edge once.
-    pub fn border_edges(&self, mesh: &TriMesh, adjacency: &FaceAdjacency) -> Vec<[u32; 2]> {
+    /// Edges where the patch changes (or a kept patch meets an open or non-manifold edge),
+    /// each once: its two vertices and the patch ids on either side ([`DROPPED`] for a
+    /// dropped patch or no face at all).
+    pub fn border_edges(&self, mesh: &TriMesh, adjacency: &FaceAdjacency) -> Vec<BorderEdge> {
         let mut edges = Vec::new();
         for (f, t) in mesh.triangles().iter().enumerate() {
             let p = self.patch_of[f];
             for (k, g) in adjacency.neighbours(f).into_iter().enumerate() {
-                let border = if g == crate::mesh::NO_FACE {
-                    p != DROPPED
+                let other = if g == crate::mesh::NO_FACE {
+                    if p == DROPPED {
+                        continue;
+                    }
+                    DROPPED
+                } else if (g as usize) > f && self.patch_of[g as usize] != p {
+                    self.patch_of[g as usize]
                 } else {
-                    (g as usize) > f && self.patch_of[g as usize] != p
+                    continue;
                 };
-                if border {
-                    edges.push([t[k], t[(k + 1) % 3]]);
-                }
+                edges.push(BorderEdge {
+                    vertices: [t[k], t[(k + 1) % 3]],
+                    patches: [p, other],
+                });
             }
         }
         edges
@@ -203,10 +219,19 @@ impl Segmentation {
         let point = |v: u32| -> Point3 { mesh.positions()[v as usize] };
         self.border_edges(mesh, adjacency)
             .into_iter()
-            .flat_map(|[a, b]| {
-                let (a, b) = (point(a), point(b));
+            .flat_map(|e| {
+                let (a, b) = (point(e.vertices[0]), point(e.vertices[1]));
                 [a.x, a.y, a.z, b.x, b.y, b.z].map(|c| c as f32)
             })
+            .collect()
+    }
+
+    /// The patch ids on either side of each of [`Segmentation::border_segments`], flat
+    /// `[p0, q0, p1, q1, …]`.
+    pub fn border_patches(&self, mesh: &TriMesh, adjacency: &FaceAdjacency) -> Vec<i32> {
+        self.border_edges(mesh, adjacency)
+            .into_iter()
+            .flat_map(|e| e.patches)
             .collect()
     }
 }

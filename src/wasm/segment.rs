@@ -79,6 +79,14 @@ impl Segmentation {
             .border_segments(&self.mesh.mesh, &self.mesh.adjacency)
     }
 
+    /// The two patch ids beside each border segment, flat `[p0, q0, p1, q1, …]`; −1 for a
+    /// dropped patch or an open edge.
+    #[wasm_bindgen(js_name = borderPatches)]
+    pub fn border_patches(&self) -> Vec<i32> {
+        self.inner
+            .border_patches(&self.mesh.mesh, &self.mesh.adjacency)
+    }
+
     /// Binary STL of patch `id`. Throws if there is no such patch.
     #[wasm_bindgen(js_name = patchStl)]
     pub fn patch_stl(&self, id: u32) -> Result<Vec<u8>, JsError> {

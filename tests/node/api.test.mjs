@@ -21,7 +21,7 @@ test('the generated TypeScript declarations name the whole API', () => {
     'readonly triangleCount: number', 'readonly vertexCount: number', 'positions(): Float32Array',
     'indices(): Uint32Array', 'report(): MeshReport', 'segment(params: SegmentParams, onProgress?: ProgressCallback): Segmentation',
     'readonly patchCount: number', 'readonly threshold: number', 'readonly thresholdKind: string',
-    'patchOf(): Int32Array', 'patches(): Patch[]', 'borderSegments(): Float32Array',
+    'patchOf(): Int32Array', 'patches(): Patch[]', 'borderSegments(): Float32Array', 'borderPatches(): Int32Array',
     'patchStl(id: number): Uint8Array', 'export function deriveThreshold(params: SegmentParams): Threshold;',
     'export function wasmMemoryBytes(): number', 'free(): void', 'export interface MeshReport {',
     'export interface Patch {', 'export type ProgressCallback = (stage: string, fraction: number) => void;']) {
@@ -56,7 +56,11 @@ test('a real aircraft imports, reports and segments with progress', () => {
   assert.equal(patchOf.filter((p) => p === 0).length, patches[0].triangleCount);
   const stl = seg.patchStl(0);
   assert.equal(stl.length, 84 + 50 * patches[0].triangleCount);
-  assert.equal(seg.borderSegments().length % 6, 0);
+  const borders = seg.borderSegments();
+  assert.equal(borders.length % 6, 0);
+  const sides = seg.borderPatches();
+  assert.equal(sides.length, borders.length / 3);
+  assert.ok(sides.every((p) => p >= -1 && p < patches.length));
   seg.free();
   mesh.free();
 });
@@ -66,7 +70,8 @@ test('bad files throw plain Errors and the module keeps working', () => {
     ['empty.stl', /^the file is empty$/],
     ['truncated.stl', /^truncated binary STL: the header says 12 triangles but only 7 are present/],
     ['bad_number.stl', /^malformed number '1\.0\.0' at line 5 of the ASCII STL$/],
-    ['png_header.stl', /^not an STL file, or a corrupt one/],
+    ['png_header.stl', /^not an STL file: it does not start with 'solid'/],
+    ['count_too_large.stl', /^corrupt binary STL: the header says 4000000000 triangles/],
     ['all_nan.stl', /^no usable triangles/],
   ];
   for (const [name, message] of cases) {

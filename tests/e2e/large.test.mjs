@@ -1,0 +1,104 @@
+// Large inputs in headless Chromium: a million triangles, Cancel during a long load, and a
+// file too big for browser memory (refused before any attempt). Test files go to test-output/.
+import { after, before, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { closeSync, ftruncateSync, openSync, rmSync, statSync, writeSync } from 'node:fs';
+import { join } from 'node:path';
+import { openApp, outputDir, paintedPixels, torusStl, waitForModel, waitForReady } from './helpers.mjs';
+
+let app;
+let page;
+const created = [];
+
+before(async () => {
+  app = await openApp();
+  page = app.page;
+  await waitForModel(page, 'bwb_4464_pygeo_ascii.stl');
+});
+
+after(async () => {
+  await app?.close();
+  for (const path of created) rmSync(path, { force: true });
+});
+
+const text = (selector) => page.locator(selector).textContent();
+
+test('a one-million-triangle STL loads, segments and displays', async () => {
+  const path = torusStl(1000, 500, 'torus_1m.stl');
+  created.push(path);
+  await page.setInputFiles('#file-input', path);
+  await waitForModel(page, 'torus_1m.stl', 180_000);
+  assert.equal(await text('#stat-triangles'), '1,000,000');
+  assert.equal(await text('#stat-vertices'), '500,000');
+  assert.match(await text('#stat-size'), /^26 × 26 × 6 /);
+  assert.match(await text('#stat-memory'), /MiB|GiB/);
+  assert.ok((await page.locator('#patch-rows tr[data-patch-id]').count()) > 0);
+  const { painted, total } = await paintedPixels(page, join(outputDir, 'e2e-canvas-1m.png'));
+  assert.ok(painted > total * 0.05, `the canvas shows the torus (${painted} of ${total} pixels)`);
+  await page.screenshot({ path: join(outputDir, 'e2e-1m.png') });
+});
+
+test('Cancel stops a long load and keeps the model on screen', async () => {
+  const path = torusStl(2000, 1000, 'torus_4m.stl'); // 200 MB: parsing and segmenting take seconds
+  created.push(path);
+  await page.setInputFiles('#file-input', path);
+  await page.locator('#progress').waitFor({ state: 'visible' });
+  await page.waitForFunction(() => /%/.test(document.getElementById('progress-percent').textContent));
+  assert.match(await text('#progress-stage'), /\w/);
+  assert.match(await text('#progress-percent'), /^\d+ %$/);
+  await page.screenshot({ path: join(outputDir, 'e2e-progress.png') });
+  // The page stays usable while the worker parses: typing a parameter re-derives the live
+  // threshold at once (no timing threshold here: speed belongs to npm run bench).
+  const angle = page.locator('input[name="angleThreshold"]');
+  const previous = await angle.inputValue();
+  await angle.fill('0.5');
+  await page.waitForFunction(() => /^α = 0\.5 rad/.test(document.getElementById('threshold-value').textContent));
+  await angle.fill(previous);
+  await page.waitForFunction((p) => document.getElementById('threshold-value').textContent.includes(`α = ${p} rad`), previous);
+  assert.equal(await page.evaluate(() => document.body.dataset.state), 'busy', 'still working when cancelled');
+  await page.click('#cancel-button');
+  await waitForReady(page);
+  assert.match(await text('#status'), /Cancelled/);
+  assert.equal(await text('#model-name'), 'torus_1m.stl');
+  assert.equal(await page.evaluate(() => document.body.dataset.model), 'torus_1m.stl');
+
+  // The worker was replaced and lost the mesh: exporting and re-segmenting give it the
+  // model again without the user's help.
+  await page.click('#patch-rows tr[data-patch-id="0"] td:nth-child(2)');
+  const triangles = Number((await page.locator('#patch-rows tr[data-patch-id="0"] td').nth(1).textContent()).replace(/,/g, ''));
+  const [download] = await Promise.all([page.waitForEvent('download', { timeout: 180_000 }), page.click('#export-selected')]);
+  assert.equal(statSync(await download.path()).size, 84 + 50 * triangles);
+  await waitForReady(page, 180_000);
+  const before = Number(await page.evaluate(() => document.body.dataset.segmentations));
+  await page.fill('input[name="minAreaPercent"]', '2');
+  await page.click('#segment-button');
+  await page.waitForFunction((n) => Number(document.body.dataset.segmentations) > n, before, { timeout: 180_000 });
+  await waitForReady(page, 180_000);
+  assert.equal(await text('#alert'), '');
+  assert.ok((await page.locator('#patch-rows tr[data-patch-id]').count()) > 0);
+});
+
+test('a file too large for browser memory is refused before any attempt', async () => {
+  // A sparse file: 3 GB on paper, a few bytes on disk. Only its header is read.
+  const path = join(outputDir, 'too_large_sparse.stl');
+  created.push(path);
+  const fd = openSync(path, 'w');
+  const header = Buffer.alloc(84);
+  header.writeUInt32LE(60_000_000, 80);
+  writeSync(fd, header);
+  ftruncateSync(fd, 84 + 50 * 60_000_000);
+  closeSync(fd);
+  await page.setInputFiles('#file-input', path);
+  await page.waitForFunction(() => document.getElementById('alert').textContent.length > 0);
+  await waitForReady(page);
+  const alert = await text('[role="alert"]');
+  assert.match(alert, /too_large_sparse\.stl/);
+  assert.match(alert, /2\.79 GiB/, 'names the file size');
+  assert.match(alert, /2 GiB/, 'names the limit');
+  assert.equal(await text('#model-name'), 'torus_1m.stl');
+});
+
+test('no request left the origin and nothing was logged as an error', () => {
+  assert.deepEqual(app.foreignRequests, []);
+  assert.deepEqual(app.consoleErrors, []);
+});
