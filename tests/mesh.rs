@@ -199,13 +199,6 @@ fn generated_sphere_is_closed_and_outward() {
 mod real_models {
     use super::*;
 
-    pub fn load(name: &str) -> Vec<u8> {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../shared/models")
-            .join(name);
-        std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-    }
-
     #[test]
     fn vertex_counts_match_stl_io_and_the_model_notes() {
         // (file, triangles, unique vertices as listed in the models' SOURCES.md)
@@ -215,7 +208,7 @@ mod real_models {
             ("b747_14062_flightgear.stl", 14_062, 7_647),
             ("bwb_4464_pygeo_ascii.stl", 4_464, 2_234),
         ] {
-            let bytes = load(name);
+            let bytes = common::model(name);
             let m = import(&bytes);
             assert_eq!(
                 (m.report.triangles, m.report.vertices),
@@ -230,7 +223,7 @@ mod real_models {
 
     #[test]
     fn defects_of_the_messy_airliner_are_reported() {
-        let m = import(&load("b747_14062_flightgear.stl"));
+        let m = import(&common::model("b747_14062_flightgear.stl"));
         let r = &m.report;
         assert_eq!((r.boundary_edges, r.non_manifold_edges), (1_141, 113));
         assert!(r.flipped_triangles > 0 && r.components > 1);
@@ -239,7 +232,7 @@ mod real_models {
             "wingbody_79868_flow360.stl",
             "bwb_4464_pygeo_ascii.stl",
         ] {
-            let m = import(&load(name));
+            let m = import(&common::model(name));
             assert_eq!(
                 (m.report.boundary_edges, m.report.non_manifold_edges),
                 (0, 0),
@@ -251,7 +244,7 @@ mod real_models {
                 "{name} is clean"
             );
         }
-        let orion = import(&load("orion_51736_nasa.stl"));
+        let orion = import(&common::model("orion_51736_nasa.stl"));
         assert_eq!(
             (orion.report.components, orion.report.boundary_edges),
             (3, 0)

@@ -288,17 +288,10 @@ mod real_models {
         "orion_51736_nasa.stl",
     ];
 
-    fn load(name: &str) -> Vec<u8> {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../shared/models")
-            .join(name);
-        std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-    }
-
     #[test]
     fn invariants_hold_on_every_real_model_for_several_settings() {
         for name in MODELS {
-            let m = import(&load(name));
+            let m = import(&common::model(name));
             for (criterion, theta, ratio) in [
                 (Criterion::Angle { alpha_rad: 0.35 }, 1.0, 0.1),
                 (Criterion::Angle { alpha_rad: 0.2 }, 0.5, 0.0),
@@ -324,7 +317,7 @@ mod real_models {
     fn paper_parameters_on_the_aircraft_models() {
         // α_th = 0.35 rad, θmax = 1 rad, ε = 10 % (the paper reports 7 patches on its model).
         for name in MODELS {
-            let m = import(&load(name));
+            let m = import(&common::model(name));
             let mut counts = Vec::new();
             for rule in [
                 SeedRule::LowestIndex,

@@ -70,7 +70,7 @@ export class Viewer extends EventTarget {
   #borderMaterial = new THREE.LineBasicMaterial({ color: 0x15191d, transparent: true, opacity: 0.75 });
   #ranges = new Uint32Array(0);
   #state = { hidden: new Set(), selected: null, hovered: null, showBorders: true };
-  #borderPatches = null; // Int32Array, two patch ids per border segment, when the core gives them
+  #borderPatches = new Int32Array(0); // two patch ids per border segment
   #borderHiddenKey = '';
   #picker = new PatchPicker();
   #raycaster = new THREE.Raycaster();
@@ -121,14 +121,14 @@ export class Viewer extends EventTarget {
 
   /**
    * Shows a mesh: display = { positions, ranges, borders, borderPatches } from the worker
-   * (file frame); borderPatches may be null.
+   * (file frame).
    * `keepView` keeps the camera (re-segmenting the same model); otherwise the view is fitted.
    */
   setModel(display, { keepView = false } = {}) {
     this.#disposeModel();
     const { positions, ranges, borders, borderPatches } = display;
     this.#ranges = ranges;
-    this.#borderPatches = borderPatches ?? null;
+    this.#borderPatches = borderPatches;
     this.#borderHiddenKey = '';
 
     const geometry = new THREE.BufferGeometry();
@@ -277,13 +277,7 @@ export class Viewer extends EventTarget {
   /** Border lines of hidden patches would float in the air: draw only those of visible ones. */
   #applyBorderState(showBorders) {
     const hidden = this.#state.hidden;
-    const anyPatchHidden = [...hidden].some((id) => id >= 0);
     const sides = this.#borderPatches;
-    if (!sides) {
-      // Without per-segment patch ids the lines cannot be filtered: hide them while patches are.
-      this.#borders.visible = showBorders && !anyPatchHidden;
-      return;
-    }
     this.#borders.visible = showBorders;
     const key = [...hidden].sort((a, b) => a - b).join(',');
     if (key === this.#borderHiddenKey) return;

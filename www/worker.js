@@ -85,9 +85,8 @@ function buildDisplay(seg, progress) {
   }
   progress('Preparing the display', 1);
   const borders = seg ? seg.borderSegments() : new Float32Array(0);
-  // Optional in the API: the two patch ids beside each border segment, for hiding borders
-  // of hidden patches. Without it the viewer hides all borders while patches are hidden.
-  const borderPatches = seg && typeof seg.borderPatches === 'function' ? seg.borderPatches() : null;
+  // The two patch ids beside each border segment, so borders of hidden patches hide too.
+  const borderPatches = seg ? seg.borderPatches() : new Int32Array(0);
   return { positions: out, ranges, borders, borderPatches };
 }
 
@@ -101,9 +100,7 @@ function summarize(seg) {
 }
 
 function transferList(display) {
-  const list = [display.positions.buffer, display.ranges.buffer, display.borders.buffer];
-  if (display.borderPatches) list.push(display.borderPatches.buffer);
-  return list;
+  return [display.positions.buffer, display.ranges.buffer, display.borders.buffer, display.borderPatches.buffer];
 }
 
 /** Segments `mesh`; the previous segmentation survives a failure. */

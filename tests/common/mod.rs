@@ -32,6 +32,16 @@ macro_rules! assert_near {
     }};
 }
 
+/// Bytes of a real mesh from the shared model folder beside the repository (native only:
+/// WebAssembly tests have no file system).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn model(name: &str) -> Vec<u8> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/models")
+        .join(name);
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 /// A triangle as three corners.
 pub type Tri = [[f32; 3]; 3];
 
