@@ -1,7 +1,9 @@
 // `npm run bench`: times the core on generated meshes and prints figures (asserts nothing).
 //
-// For each size, a child process (so every run starts from a fresh WebAssembly memory)
-// generates a closed, fuselage-like binary STL, then measures in one process:
+// For each case, a child process (so every run starts from a fresh WebAssembly memory)
+// generates a binary STL — a closed, fuselage-like surface of revolution at several sizes, and
+// a box of integer-coordinate grids (structured bit patterns: the welding hash's stress
+// case) — then measures in one process:
 //   - Mesh.fromStl (parse, weld, adjacency, winding, face geometry)
 //   - mesh.segment with the paper's parameters (α 0.35 rad, θmax 1 rad, ε 10 %)
 //   - three.js STLLoader.parse of the same bytes (a plain, unwelded parse) for comparison
@@ -13,7 +15,39 @@ import { fileURLToPath } from 'node:url';
 import { dirname, join } from 'node:path';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
-const SIZES = [20_000, 200_000, 1_000_000, 2_000_000];
+const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_000],
+  ['fuselage', 2_000_000], ['grid', 1_000_000]];
+
+function toBinaryStl(tris) {
+  const bytes = new Uint8Array(84 + 50 * tris.length);
+  const view = new DataView(bytes.buffer);
+  view.setUint32(80, tris.length, true);
+  let o = 84;
+  for (const t of tris) {
+    o += 12; // normal left zero: the core recomputes it
+    for (const p of t) for (const c of p) { view.setFloat32(o, c, true); o += 4; }
+    o += 2;
+  }
+  return bytes;
+}
+
+/** The six faces of an n × n × n box, each an integer grid: about `target` triangles. */
+export function gridBoxStl(target) {
+  const n = Math.max(1, Math.round(Math.sqrt(target / 12)));
+  const tris = [];
+  const faces = [
+    (a, b) => [b, a, 0], (a, b) => [a, b, n], (a, b) => [a, 0, b],
+    (a, b) => [b, n, a], (a, b) => [0, a, b], (a, b) => [n, b, a],
+  ];
+  for (const p of faces) {
+    for (let i = 0; i < n; i++) {
+      for (let j = 0; j < n; j++) {
+        tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)], [p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+      }
+    }
+  }
+  return toBinaryStl(tris);
+}
 
 /** A closed surface of revolution (nose, barrel, tail cone) with about `target` triangles. */
 export function fuselageStl(target) {
@@ -39,16 +73,7 @@ export function fuselageStl(target) {
       if (j < along - 1) tris.push([a, d, c]);
     }
   }
-  const bytes = new Uint8Array(84 + 50 * tris.length);
-  const view = new DataView(bytes.buffer);
-  view.setUint32(80, tris.length, true);
-  let o = 84;
-  for (const t of tris) {
-    o += 12; // normal left zero: the core recomputes it
-    for (const p of t) for (const c of p) { view.setFloat32(o, c, true); o += 4; }
-    o += 2;
-  }
-  return bytes;
+  return toBinaryStl(tris);
 }
 
 function median(xs) {
@@ -56,11 +81,11 @@ function median(xs) {
   return s[Math.floor(s.length / 2)];
 }
 
-async function runOne(target) {
+async function runOne(shape, target) {
   const { initSync, Mesh, wasmMemoryBytes } = await import(join(root, 'dist/pkg/skinpath.js'));
   const { STLLoader } = await import('three/examples/jsm/loaders/STLLoader.js');
   initSync({ module: readFileSync(join(root, 'dist/pkg/skinpath_bg.wasm')) });
-  const bytes = fuselageStl(target);
+  const bytes = shape === 'grid' ? gridBoxStl(target) : fuselageStl(target);
   const triangles = (bytes.length - 84) / 50;
   const params = { angleThreshold: 0.35, thetaMax: 1, minAreaRatio: 0.1 };
   const runs = triangles > 500_000 ? 3 : 7;
@@ -90,25 +115,32 @@ async function runOne(target) {
     seg.free(); mesh.free();
   }
   const [p, s, l] = [median(parse), median(segment), median(three)];
-  return { triangles, fromStl: p, segment: s, stlLoader: l, ratio: (p + s) / l,
+  return { shape, triangles, fromStl: p, segment: s, stlLoader: l, ratio: (p + s) / l,
     bytesPerTriangle: memory / triangles, memoryMiB: memory / 2 ** 20, patches };
 }
 
 const isMain = process.argv[1] && fileURLToPath(import.meta.url) === process.argv[1];
 const sizeArg = !isMain ? -1 : process.argv.indexOf('--size');
 if (sizeArg > 0) {
-  const result = await runOne(Number(process.argv[sizeArg + 1]));
+  const result = await runOne(process.argv[sizeArg + 2] ?? 'fuselage', Number(process.argv[sizeArg + 1]));
   process.stdout.write(JSON.stringify(result));
 } else if (isMain) {
-  const sizes = process.argv.slice(2).map(Number).filter(Boolean);
-  console.log('skinpath benchmark (Node %s): generated closed fuselage meshes, binary STL', process.version);
-  console.log('triangles   fromStl ms  segment ms  STLLoader ms  (fromStl+segment)/STLLoader  wasm MiB  bytes/triangle  patches');
-  for (const size of sizes.length ? sizes : SIZES) {
+  // `npm run bench -- 50000 fuselage 300000 grid` runs only those cases.
+  const args = process.argv.slice(2);
+  const chosen = [];
+  for (let i = 0; i < args.length; i++) {
+    const shape = ['fuselage', 'grid'].includes(args[i + 1]) ? args[i + 1] : 'fuselage';
+    if (Number(args[i])) chosen.push([shape, Number(args[i])]);
+    if (shape === args[i + 1]) i++;
+  }
+  console.log('skinpath benchmark (Node %s): generated closed meshes, binary STL', process.version);
+  console.log('shape      triangles   fromStl ms  segment ms  STLLoader ms  (fromStl+segment)/STLLoader  wasm MiB  bytes/triangle  patches');
+  for (const [shape, size] of chosen.length ? chosen : CASES) {
     const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
-      fileURLToPath(import.meta.url), '--size', String(size)], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
+      fileURLToPath(import.meta.url), '--size', String(size), shape], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
     const r = JSON.parse(out);
     console.log(
-      `${String(r.triangles).padStart(9)}  ${r.fromStl.toFixed(1).padStart(10)}  ${r.segment.toFixed(1).padStart(10)}` +
+      `${r.shape.padEnd(9)}${String(r.triangles).padStart(9)}  ${r.fromStl.toFixed(1).padStart(10)}  ${r.segment.toFixed(1).padStart(10)}` +
       `  ${r.stlLoader.toFixed(1).padStart(12)}  ${r.ratio.toFixed(2).padStart(27)}` +
       `  ${r.memoryMiB.toFixed(1).padStart(8)}  ${r.bytesPerTriangle.toFixed(1).padStart(14)}  ${String(r.patches).padStart(7)}`);
   }

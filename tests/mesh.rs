@@ -251,3 +251,66 @@ mod real_models {
         );
     }
 }
+
+/// A small deterministic generator (xorshift64*), so the robustness test needs no crate.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+#[test]
+fn mangled_files_never_panic_and_never_yield_an_invalid_mesh() {
+    let mut rng = Rng(0x5eed_1234_abcd_ef01);
+    let sources: [&[u8]; 4] = [
+        fixture!("cube_binary.stl"),
+        fixture!("cube_ascii.stl"),
+        fixture!("nonmanifold_edge.stl"),
+        fixture!("degenerate_triangle.stl"),
+    ];
+    let mut accepted = 0;
+    for round in 0..600 {
+        let source = sources[round % sources.len()];
+        let mut bytes = source.to_vec();
+        match rng.below(4) {
+            // Cut anywhere.
+            0 => bytes.truncate(rng.below(bytes.len() + 1)),
+            // Flip a few bytes (counts, coordinates, keywords, digits).
+            1 => {
+                for _ in 0..1 + rng.below(4) {
+                    let i = rng.below(bytes.len());
+                    bytes[i] = rng.next() as u8;
+                }
+            }
+            // Plant NaN, infinity or huge values in binary coordinates.
+            2 if bytes.len() > 84 => {
+                let i = 84 + 12 + 4 * rng.below((bytes.len() - 96) / 4);
+                let value = [f32::NAN, f32::INFINITY, -f32::MAX, 1e-45][rng.below(4)];
+                bytes[i..i + 4].copy_from_slice(&value.to_le_bytes());
+            }
+            // Pure noise of any length.
+            _ => bytes = (0..rng.below(400)).map(|_| rng.next() as u8).collect(),
+        }
+        if let Ok(m) = import_stl(&bytes, &mut |_, _| {}) {
+            accepted += 1;
+            m.mesh.validate().expect("an accepted mesh is valid");
+            check_adjacency(&m);
+            let params = skinpath::segment::SegmentParams::default();
+            let seg = skinpath::segment::segment(&m.adjacency, &m.geometry, &params).unwrap();
+            common::check_invariants(&m, &seg, params.theta_max_rad, params.min_area_ratio);
+        }
+    }
+    assert!(
+        accepted > 50,
+        "the mutations should leave many files readable ({accepted})"
+    );
+}
