@@ -88,7 +88,7 @@ async function runOne(shape, target) {
   const bytes = shape === 'grid' ? gridBoxStl(target) : fuselageStl(target);
   const triangles = (bytes.length - 84) / 50;
   const params = { angleThreshold: 0.35, thetaMax: 1, minAreaRatio: 0.1 };
-  const runs = triangles > 500_000 ? 3 : 7;
+  const runs = triangles > 1_500_000 ? 5 : 9;
 
   // First run: memory of one import + segmentation from a fresh module.
   let mesh = Mesh.fromStl(bytes);
