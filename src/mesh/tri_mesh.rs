@@ -92,6 +92,15 @@ impl TriMesh {
         &self.positions
     }
 
+    /// Positions as flat `[x0, y0, z0, x1, …]` in `f32` (exact for meshes read from STL),
+    /// the layout GPU buffers take.
+    pub fn positions_f32(&self) -> Vec<f32> {
+        self.positions
+            .iter()
+            .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+            .collect()
+    }
+
     /// Triangles as vertex indices.
     pub fn triangles(&self) -> &[[u32; 3]] {
         &self.triangles

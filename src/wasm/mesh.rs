@@ -41,11 +41,7 @@ impl Mesh {
 
     /// Welded vertex positions, flat `[x0, y0, z0, x1, …]` in the file's unit.
     pub fn positions(&self) -> Vec<f32> {
-        let positions = self.inner.mesh.positions();
-        positions
-            .iter()
-            .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
-            .collect()
+        self.inner.mesh.positions_f32()
     }
 
     /// Vertex indices, 3 per triangle, in the consistent winding the segmentation used.
