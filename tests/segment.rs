@@ -341,4 +341,29 @@ mod real_models {
             eprintln!("{name}: {}", counts.join("; "));
         }
     }
+
+    #[test]
+    fn the_wing_body_splits_like_the_papers_aircraft() {
+        // The paper: wing upper/lower, tail upper/lower and a fuselage in 3 near-planar parts.
+        // This model has no tail: its two wings give 4 skins (mirror pairs of equal area,
+        // normals ±z) and the fuselage 3 parts.
+        let m = import(&common::model("wingbody_79868_flow360.stl"));
+        let seg = segment(&m.adjacency, &m.geometry, &SegmentParams::default()).unwrap();
+        assert_eq!(seg.patches.len(), 7);
+        let wings: Vec<_> = seg
+            .patches
+            .iter()
+            .filter(|p| p.normal[2].abs() > 0.99 && p.centroid[1].abs() > 1.0)
+            .collect();
+        assert_eq!(
+            wings.len(),
+            4,
+            "four wing skins away from the fuselage axis"
+        );
+        let up = wings.iter().filter(|p| p.normal[2] > 0.0).count();
+        assert_eq!(up, 2, "two upper and two lower skins");
+        for p in &wings {
+            assert_near!(p.area, wings[0].area, 0.01 * wings[0].area);
+        }
+    }
 }
