@@ -528,6 +528,11 @@ function renderSummary() {
   const keptTriangles = seg.patches.reduce((sum, p) => sum + p.triangleCount, 0);
   const dropped = state.model.report.triangles - keptTriangles;
   const share = state.model.report.area > 0 ? (100 * covered) / state.model.report.area : 100;
+  if (seg.patchCount === 0) {
+    summary.textContent = `No patch reaches the minimum area (${num(100 * (state.segmentedParams?.minAreaRatio ?? state.settings.minAreaRatio), 3)} % of the surface): ` +
+      'lower the minimum patch area, or loosen the growing threshold so regions can grow.';
+    return;
+  }
   summary.textContent = `${seg.patchCount} ${seg.patchCount === 1 ? 'patch covers' : 'patches cover'} ${num(share, 3)} % of the surface` +
     (dropped > 0 ? `; ${integer.format(dropped)} triangles in small regions are dropped (grey).` : '.');
 }
@@ -818,6 +823,8 @@ function wireEvents() {
     state.settings.unit = event.target.value;
     persistSettings(state.settings);
     refreshUnits();
+    // Grinding tool lengths are in mm: in another file unit they give another κ.
+    if (state.settings.criterion === 'grind') requestSegmentation();
   });
   $('angle-unit-select').addEventListener('change', (event) => {
     // Keep what is typed valid: convert the angle fields in place.

@@ -10,7 +10,7 @@ export const SAMPLES = [
     meta: '51,736 triangles, binary, NASA 3D Resources' },
 ];
 
-// The paper's defaults (α 0.35 rad, θmax 1 rad, ε 10 %); spray and grind values are examples.
+// The paper's defaults (α 0.35 rad, θmax 1 rad, ε 10 %); spray (µm) and grind (mm) values are examples.
 export const DEFAULTS = Object.freeze({
   criterion: 'angle',
   angleThreshold: 0.35,
@@ -104,7 +104,13 @@ export function persistSettings(settings) {
   if (location.hash !== hash) history.replaceState(null, '', hash);
 }
 
-/** The object the core takes: exactly one criterion, plus thetaMax and minAreaRatio. */
+/** Millimetres per file unit: grinding tool lengths are typed in mm, the core takes file units. */
+export const MM_PER_UNIT = Object.freeze({ mm: 1, m: 1000, in: 25.4, ft: 304.8 });
+
+/**
+ * The object the core takes: exactly one criterion, plus thetaMax and minAreaRatio. The
+ * grinding lengths go from mm into the file's unit, so κ comes back in 1 / file unit.
+ */
 export function coreParams(s) {
   const params = {};
   if (s.criterion === 'angle') params.angleThreshold = s.angleThreshold;
@@ -112,7 +118,10 @@ export function coreParams(s) {
   else if (s.criterion === 'spray') {
     params.spray = { meanThickness: s.meanThickness, allowedDeviation: s.allowedDeviation, minThickness: s.minThickness };
   } else {
-    params.grind = { indentationDepth: s.indentationDepth, minPressureRatio: s.minPressureRatio, contactWidth: s.contactWidth };
+    const mm = MM_PER_UNIT[s.unit] ?? 1;
+    params.grind = {
+      indentationDepth: s.indentationDepth / mm, minPressureRatio: s.minPressureRatio, contactWidth: s.contactWidth / mm,
+    };
   }
   params.thetaMax = s.thetaMax;
   params.minAreaRatio = s.minAreaRatio;

@@ -85,6 +85,16 @@ test('the derived threshold follows the parameters as they are typed', async () 
   const second = await text('#threshold-value');
   assert.match(second, /^κ = /);
   assert.notEqual(second, first, 'a new contact width gives a new curvature threshold');
+  // Tool lengths are in mm whatever the file's unit: d 0.5 mm, δ 0.8, Lc 10 mm give
+  // κ = 2·0.5·(1 − 0.64)/10² = 0.0036 1/mm = 3.6 1/m.
+  const unit = await page.locator('#unit-select').inputValue();
+  await page.fill('input[name="indentationDepth"]', '0.5');
+  await page.fill('input[name="minPressureRatio"]', '0.8');
+  await page.selectOption('#unit-select', 'm');
+  await page.waitForFunction(() => document.getElementById('threshold-value').textContent === 'κ = 3.6 1/m');
+  await page.selectOption('#unit-select', 'mm');
+  await page.waitForFunction(() => document.getElementById('threshold-value').textContent === 'κ = 0.0036 1/mm');
+  await page.selectOption('#unit-select', unit);
 
   // Out of range: flagged inline, no threshold, Segment disabled.
   await page.fill('input[name="minPressureRatio"]', '1.5');
