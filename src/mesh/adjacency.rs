@@ -64,6 +64,11 @@ pub const MAX_FACES: usize = (u32::MAX >> 2) as usize;
 impl FaceAdjacency {
     /// Builds the adjacency of `mesh` (at most [`MAX_FACES`] faces).
     pub fn new(mesh: &TriMesh) -> Self {
+        Self::with_progress(mesh, &mut |_, _| {})
+    }
+
+    /// [`FaceAdjacency::new`] reporting `("adjacency", fraction)` now and then.
+    pub fn with_progress(mesh: &TriMesh, progress: &mut dyn FnMut(&str, f64)) -> Self {
         let triangles = mesh.triangles();
         let n = triangles.len();
         assert!(
@@ -108,6 +113,9 @@ impl FaceAdjacency {
         // (face·4 + corner, wound the same way as f) of every other face on the edge.
         let mut sharers: Vec<(u32, bool)> = Vec::with_capacity(8);
         for f in 0..n {
+            if f % super::PROGRESS_EVERY == 0 {
+                progress("adjacency", f as f64 / n as f64);
+            }
             let t = triangles[f];
             if collapsed(&t) {
                 neighbours[f] = [NO_FACE; 3];

@@ -60,8 +60,7 @@ pub fn import_stl(
 ) -> Result<ImportedMesh, StlError> {
     let import = read_stl_with_progress(bytes, progress)?;
     let mut mesh = import.mesh;
-    progress("adjacency", 0.0);
-    let mut adjacency = FaceAdjacency::new(&mesh);
+    let mut adjacency = FaceAdjacency::with_progress(&mesh, progress);
     progress("orient", 0.0);
     let orientation = orient_consistently(&mut mesh, &mut adjacency);
     progress("geometry", 0.0);

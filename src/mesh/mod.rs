@@ -9,6 +9,9 @@ mod stl;
 mod tri_mesh;
 mod weld;
 
+/// How often (in faces) long loops report progress.
+const PROGRESS_EVERY: usize = 1 << 16;
+
 pub use adjacency::{FaceAdjacency, MAX_FACES, NO_FACE};
 pub use face_geometry::FaceGeometry;
 pub use import::{import_stl, ImportedMesh, MeshReport};

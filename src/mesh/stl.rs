@@ -16,14 +16,12 @@
 //! number and the counts of a truncated binary file, which `stl_io`'s readers do not report;
 //! writing goes through `stl_io::write_stl`.
 
-use super::{MeshError, TriMesh, Welder};
+use super::{MeshError, TriMesh, Welder, PROGRESS_EVERY};
 use crate::math::Point3;
 
 const HEADER_BYTES: usize = 80;
 const BINARY_PREAMBLE: usize = HEADER_BYTES + 4;
 const BINARY_TRIANGLE_BYTES: usize = 50;
-/// How often (in triangles) readers report progress.
-const PROGRESS_EVERY: usize = 1 << 16;
 
 /// Why bytes could not be read as STL. The messages are meant for the person who chose the file.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
