@@ -208,9 +208,8 @@ pub fn read_stl_with_progress(
 /// plausibility test that tells a cut-off STL from another kind of file).
 fn looks_like_triangles(data: &[u8]) -> bool {
     const PLAUSIBLE: f32 = 1e20;
-    let records: Vec<&[u8]> = data.chunks_exact(BINARY_TRIANGLE_BYTES).take(256).collect();
-    !records.is_empty()
-        && records.iter().all(|r| {
+    data.len() >= BINARY_TRIANGLE_BYTES
+        && data.chunks_exact(BINARY_TRIANGLE_BYTES).take(256).all(|r| {
             r[12..48].chunks_exact(4).all(|b| {
                 let c = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
                 c.is_finite() && c.abs() < PLAUSIBLE

@@ -252,24 +252,23 @@ impl Grower<'_> {
             let mut trimmed = false;
             let mut drifted = false;
             loop {
+                // Every face of the list is judged against the same mean, then the mean moves.
                 let len = sum.norm();
                 let before = near.len();
+                let mut removed = Vector3::zeros();
                 let mut kept = Vec::with_capacity(near.len());
                 for &f in &near {
                     if self.fits(f as usize, &sum, len) {
                         kept.push(f);
                     } else {
+                        removed += self.weighted(f as usize);
                         self.release(f);
                     }
                 }
                 if kept.len() == before {
                     break;
                 }
-                for &f in &near {
-                    if self.patch_of[f as usize] == UNASSIGNED {
-                        sum -= self.weighted(f as usize);
-                    }
-                }
+                sum -= removed;
                 near = kept;
                 trimmed = true;
                 // The members off the list are safe only while the mean stays within the margin.

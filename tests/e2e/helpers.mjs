@@ -46,6 +46,13 @@ export async function openApp({ viewport = { width: 1400, height: 860 }, hash = 
   return { page, url, browser, foreignRequests, consoleErrors, close };
 }
 
+/** Opens the page on a first visit and waits until the default sample is segmented. */
+export async function openAppWithSample(options) {
+  const app = await openApp(options);
+  await waitForModel(app.page, 'bwb_4464_pygeo_ascii.stl');
+  return app;
+}
+
 /** Waits until the page is idle with `name` on screen (body data attributes set by main.js). */
 export async function waitForModel(page, name, timeout = 60_000) {
   await page.waitForFunction(

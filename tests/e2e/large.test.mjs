@@ -4,16 +4,16 @@ import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { closeSync, ftruncateSync, openSync, rmSync, statSync, writeSync } from 'node:fs';
 import { join } from 'node:path';
-import { openApp, outputDir, paintedPixels, torusStl, waitForModel, waitForReady } from './helpers.mjs';
+import { openAppWithSample, outputDir, paintedPixels, torusStl, waitForModel, waitForReady } from './helpers.mjs';
 
 let app;
 let page;
 const created = [];
 
 before(async () => {
-  app = await openApp();
+  // First visit: the default sample opens and is segmented without any action.
+  app = await openAppWithSample();
   page = app.page;
-  await waitForModel(page, 'bwb_4464_pygeo_ascii.stl');
 });
 
 after(async () => {

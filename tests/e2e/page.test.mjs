@@ -5,17 +5,16 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import {
-  binaryStl, importMapHash, modelsDir, openApp, outputDir, paintedPixels, repoRoot, waitForModel, waitForReady,
+  binaryStl, importMapHash, modelsDir, openAppWithSample, outputDir, paintedPixels, repoRoot, waitForModel, waitForReady,
 } from './helpers.mjs';
 
 let app;
 let page;
 
 before(async () => {
-  app = await openApp();
-  page = app.page;
   // First visit: the default sample opens and is segmented without any action.
-  await waitForModel(page, 'bwb_4464_pygeo_ascii.stl');
+  app = await openAppWithSample();
+  page = app.page;
 });
 
 after(async () => {
