@@ -2,6 +2,7 @@
 
 use crate::mesh::{MeshError, StlError};
 use crate::segment::ParamError;
+use crate::toolpath::ToolPathError;
 
 /// Any error the crate returns. Messages are written for the person who supplied the input.
 #[derive(Debug, thiserror::Error)]
@@ -15,6 +16,9 @@ pub enum Error {
     /// Segmentation parameters are out of range or contradictory.
     #[error(transparent)]
     Params(#[from] ParamError),
+    /// A tool path or one of its export options is invalid.
+    #[error(transparent)]
+    ToolPath(#[from] ToolPathError),
 }
 
 /// `Result` with the crate's [`Error`].
