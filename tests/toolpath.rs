@@ -912,7 +912,7 @@ fn drilling_path(holes: usize) -> ToolPath {
         poses,
         speed: 5.0,
         link_speed: 250.0,
-        notes: vec!["Drilling: 7 holes.".into()],
+        notes: vec![format!("Drilling: {holes} holes.")],
     }
 }
 
