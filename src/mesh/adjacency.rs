@@ -36,6 +36,7 @@ struct UnionFind(Vec<u32>);
 
 impl UnionFind {
     fn find(&mut self, mut x: u32) -> u32 {
+        // Ends: a parent is never larger than its child (see `union`), so x decreases.
         while self.0[x as usize] != x {
             let parent = self.0[self.0[x as usize] as usize];
             self.0[x as usize] = parent;
