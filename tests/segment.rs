@@ -496,3 +496,25 @@ fn grinding_parameters_that_derive_zero_or_infinity_are_refused() {
         .to_string();
     assert!(message.contains("angle threshold (rad) derived from spray (meanThickness 100, allowedDeviation 1e-12, minThickness 100)"), "{message}");
 }
+
+#[test]
+fn theta_max_of_pi_keeps_its_promise_on_a_nearly_closed_patch() {
+    // Found by tests/fuzz.rs: an open tube with one corner pulled down is one patch at
+    // θmax = π; its mean normal is short, and a face almost opposite it was reported at
+    // exactly π.
+    let mut tube = common::cylinder(1.0, 3.0, 16, 3);
+    tube[56][1][2] = 1e-20;
+    let m = import(&binary_stl(&tube));
+    for rule in [
+        SeedRule::Flattest,
+        SeedRule::LowestIndex,
+        SeedRule::LargestArea,
+    ] {
+        let p = SegmentParams {
+            seed_rule: rule,
+            ..params(Criterion::Angle { alpha_rad: PI }, PI, 0.0)
+        };
+        let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
+        check_invariants(&m, &seg, PI, 0.0);
+    }
+}

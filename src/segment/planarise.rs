@@ -20,12 +20,16 @@
 //!   by then, the patch keeps only the connected faces within `θmax / 2` of its mean around
 //!   the best-aligned face: normals inside a cap of radius `θmax/2` have their mean inside
 //!   the cap, so each is within `θmax` of it. Released faces seed the next patches.
+//! - θmax above `π − MIN_ANGLE_RAD` is tested as `π − MIN_ANGLE_RAD` (no paper): closer to
+//!   π, cosines cannot resolve the angle, and a face almost opposite a patch's mean (a
+//!   nearly closed patch, whose mean is short) could pass the test yet be reported at π.
 //! - Seeds follow [`SeedRule`] instead of the paper's "any boundary face"; the order is a
 //!   counting sort over 4096 bins of the rule's key, ties by face index (linear, deterministic).
 
 use super::{Regions, SeedRule, MIN_ANGLE_RAD};
 use crate::math::{angle_between, cos, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry};
+use std::f64::consts::PI;
 
 /// How often refused candidates are retried against the updated mean.
 pub const RETRY_ROUNDS: usize = 16;
@@ -357,7 +361,9 @@ pub fn planarise(
         adjacency,
         geometry,
         region_of: &regions.region_of,
-        cos_theta: cos(theta_max_rad),
+        // Within MIN_ANGLE_RAD of π the cosine test cannot tell a face from its antipode
+        // either: cap θmax there, so a face it accepts is reported below θmax too.
+        cos_theta: cos(theta_max_rad.min(PI - MIN_ANGLE_RAD)),
         near_cos: cos((theta_max_rad - TRIM_MARGIN_RAD).max(0.0)),
         cap_cos: cos(0.5 * theta_max_rad),
         guaranteed: theta_max_rad >= MIN_ANGLE_RAD,
