@@ -12,9 +12,9 @@ use std::f64::consts::PI;
 ///
 /// Face normals come from `f32` corners: rounding a corner moves a normal by about
 /// `f32::EPSILON` ≈ 1.2e-7 rad times the triangle's size over its height, so two normals
-/// closer than ~1e-7 rad cannot be told apart. The tests themselves compare cosines in `f64`,
-/// which stop resolving angles near 2·10⁻⁸ rad (`cos θ` rounds to 1 below ~1.5e-8), where
-/// a face no longer fits its own mean. 1e-6 rad (0.2 arc seconds) sits above both with room
+/// closer than ~1e-7 rad cannot be told apart. Region growing and planarisation compare
+/// cosines in `f64`, which stop resolving angles near 2·10⁻⁸ rad (`cos θ` rounds to 1 below
+/// ~1.5e-8), where a face no longer fits its own mean. 1e-6 rad (0.2 arc seconds) sits above both with room
 /// to spare and far below any process tolerance.
 pub const MIN_ANGLE_RAD: Real = 1e-6;
 /// The range of θmax and of angle thresholds in words; keep it in step with [`MIN_ANGLE_RAD`].
@@ -123,7 +123,7 @@ pub struct GrindParams {
 pub enum Criterion {
     /// Normal angle below `alpha_rad` (spraying criterion with `l = 1`).
     Angle {
-        /// Threshold in radians, in (0, π].
+        /// Threshold in radians, from [`MIN_ANGLE_RAD`] to π.
         alpha_rad: Real,
     },
     /// Approximate curvature `θ / l` below `kappa` (grinding criterion, Eq. 5–6).
@@ -175,7 +175,8 @@ pub enum SeedRule {
 pub struct SegmentParams {
     /// Region-growing criterion.
     pub criterion: Criterion,
-    /// Largest angle between a face normal and its patch's mean normal, radians, (0, π].
+    /// Largest angle between a face normal and its patch's mean normal, radians, from
+    /// [`MIN_ANGLE_RAD`] to π.
     pub theta_max_rad: Real,
     /// Patches below this share of the total area are dropped, in [0, 1).
     pub min_area_ratio: Real,
