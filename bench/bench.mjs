@@ -3,7 +3,9 @@
 // For each case, a child process (so every run starts from a fresh WebAssembly memory)
 // generates a binary STL — a closed, fuselage-like surface of revolution at several sizes, and
 // a box of integer-coordinate grids (structured bit patterns: the welding hash's stress
-// case) — then measures in one process:
+// case), a fan of triangles around one vertex (a disc tessellated from its centre, as CAD
+// exports cap cylinders) and a "book" of triangles on one edge (the high-valence cases that
+// once made the adjacency quadratic) — then measures in one process:
 //   - Mesh.fromStl (parse, weld, adjacency, winding, face geometry)
 //   - mesh.segment with the paper's parameters (α 0.35 rad, θmax 1 rad, ε 10 %)
 //   - three.js STLLoader.parse of the same bytes (a plain, unwelded parse) for comparison
@@ -16,7 +18,9 @@ import { dirname, join } from 'node:path';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_000],
-  ['fuselage', 2_000_000], ['grid', 1_000_000]];
+  ['fuselage', 2_000_000], ['grid', 1_000_000], ['fan', 80_000], ['fan', 1_000_000],
+  ['book', 50_000]];
+const SHAPES = ['fuselage', 'grid', 'fan', 'book'];
 
 function toBinaryStl(tris) {
   const bytes = new Uint8Array(84 + 50 * tris.length);
@@ -48,6 +52,30 @@ export function gridBoxStl(target) {
   }
   return toBinaryStl(tris);
 }
+
+/** `target` triangles around one vertex: a shallow cone over a disc (one vertex of valence
+ * `target`, the rim open). */
+export function fanStl(target) {
+  const rim = (i) => {
+    const a = (2 * Math.PI * (i % target)) / target;
+    return [Math.cos(a), Math.sin(a), 0];
+  };
+  const tris = [];
+  for (let i = 0; i < target; i++) tris.push([[0, 0, 0.2], rim(i), rim(i + 1)]);
+  return toBinaryStl(tris);
+}
+
+/** `target` triangles sharing one edge (a non-manifold "book"), pages all around it. */
+export function bookStl(target) {
+  const tris = [];
+  for (let i = 0; i < target; i++) {
+    const a = (2 * Math.PI * i) / target;
+    tris.push([[0, 0, 0], [0, 0, 1], [Math.cos(a), Math.sin(a), 0.5]]);
+  }
+  return toBinaryStl(tris);
+}
+
+const GENERATORS = { fuselage: fuselageStl, grid: gridBoxStl, fan: fanStl, book: bookStl };
 
 /** A closed surface of revolution (nose, barrel, tail cone) with about `target` triangles. */
 export function fuselageStl(target) {
@@ -85,7 +113,7 @@ async function runOne(shape, target) {
   const { initSync, Mesh, wasmMemoryBytes } = await import(join(root, 'dist/pkg/skinpath.js'));
   const { STLLoader } = await import('three/examples/jsm/loaders/STLLoader.js');
   initSync({ module: readFileSync(join(root, 'dist/pkg/skinpath_bg.wasm')) });
-  const bytes = shape === 'grid' ? gridBoxStl(target) : fuselageStl(target);
+  const bytes = GENERATORS[shape](target);
   const triangles = (bytes.length - 84) / 50;
   const params = { angleThreshold: 0.35, thetaMax: 1, minAreaRatio: 0.1 };
   const runs = triangles > 1_500_000 ? 5 : 9;
@@ -125,22 +153,24 @@ if (sizeArg > 0) {
   const result = await runOne(process.argv[sizeArg + 2] ?? 'fuselage', Number(process.argv[sizeArg + 1]));
   process.stdout.write(JSON.stringify(result));
 } else if (isMain) {
-  // `npm run bench -- 50000 fuselage 300000 grid` runs only those cases.
+  // `npm run bench -- 50000 fuselage 300000 grid 80000 fan` runs only those cases (shapes:
+  // fuselage, grid, fan, book).
   const args = process.argv.slice(2);
   const chosen = [];
   for (let i = 0; i < args.length; i++) {
-    const shape = ['fuselage', 'grid'].includes(args[i + 1]) ? args[i + 1] : 'fuselage';
+    const shape = SHAPES.includes(args[i + 1]) ? args[i + 1] : 'fuselage';
     if (Number(args[i])) chosen.push([shape, Number(args[i])]);
     if (shape === args[i + 1]) i++;
   }
-  console.log('skinpath benchmark (Node %s): generated closed meshes, binary STL', process.version);
-  console.log('shape      triangles   fromStl ms  segment ms  STLLoader ms  (fromStl+segment)/STLLoader  wasm MiB  bytes/triangle  patches');
+  console.log('skinpath benchmark (Node %s): generated meshes, binary STL', process.version);
+  console.log('shape      triangles   fromStl ms  fromStl µs/tri  segment ms  STLLoader ms  (fromStl+segment)/STLLoader  wasm MiB  bytes/triangle  patches');
   for (const [shape, size] of chosen.length ? chosen : CASES) {
     const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
       fileURLToPath(import.meta.url), '--size', String(size), shape], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
     const r = JSON.parse(out);
     console.log(
-      `${r.shape.padEnd(9)}${String(r.triangles).padStart(9)}  ${r.fromStl.toFixed(1).padStart(10)}  ${r.segment.toFixed(1).padStart(10)}` +
+      `${r.shape.padEnd(9)}${String(r.triangles).padStart(9)}  ${r.fromStl.toFixed(1).padStart(10)}` +
+      `  ${(1000 * r.fromStl / r.triangles).toFixed(3).padStart(14)}  ${r.segment.toFixed(1).padStart(10)}` +
       `  ${r.stlLoader.toFixed(1).padStart(12)}  ${r.ratio.toFixed(2).padStart(27)}` +
       `  ${r.memoryMiB.toFixed(1).padStart(8)}  ${r.bytesPerTriangle.toFixed(1).padStart(14)}  ${String(r.patches).padStart(7)}`);
   }

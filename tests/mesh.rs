@@ -314,3 +314,235 @@ fn mangled_files_never_panic_and_never_yield_an_invalid_mesh() {
         "the mutations should leave many files readable ({accepted})"
     );
 }
+
+/// The ASCII cube with its text rewritten by `edit`.
+fn cube_text(edit: impl Fn(&str) -> Vec<u8>) -> Vec<u8> {
+    edit(std::str::from_utf8(fixture!("cube_ascii.stl")).expect("the fixture is text"))
+}
+
+#[test]
+fn ascii_files_as_real_exporters_write_them_are_read() {
+    let reference = import(fixture!("cube_ascii.stl"));
+    let renamed = |name: &[u8]| {
+        cube_text(|s| {
+            let mut out = name.to_vec();
+            out.extend_from_slice(s.strip_prefix("solid cube").unwrap().as_bytes());
+            out
+        })
+    };
+    let cases: [(&str, Vec<u8>); 8] = [
+        ("UTF-8 name", renamed("solid café".as_bytes())),
+        ("Latin-1 name", renamed(b"solid caf\xe9")),
+        ("byte-order mark", {
+            let mut b = b"\xEF\xBB\xBF".to_vec();
+            b.extend_from_slice(fixture!("cube_ascii.stl"));
+            b
+        }),
+        (
+            "non-breaking spaces",
+            renamed("solid\u{a0}wing\u{a0}skin".as_bytes()),
+        ),
+        ("CR line ends", cube_text(|s| s.replace('\n', "\r").into())),
+        ("one line", cube_text(|s| s.replace('\n', " ").into())),
+        (
+            "one line, name and no spaces to spare",
+            cube_text(|s| s.split_whitespace().collect::<Vec<_>>().join(" ").into()),
+        ),
+        (
+            "tabs and CRLF",
+            cube_text(|s| s.replace("  ", "\t").replace('\n', "\r\n").into()),
+        ),
+    ];
+    for (what, bytes) in cases {
+        let m = import_stl(&bytes, &mut |_, _| {}).unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert_eq!(m.report.format, StlFormat::Ascii, "{what}");
+        assert_eq!(m.mesh, reference.mesh, "{what}");
+    }
+}
+
+#[test]
+fn ascii_line_numbers_count_cr_crlf_and_lf_alike() {
+    // Line 5 holds the second vertex of the first facet in every encoding.
+    for ending in ["\n", "\r\n", "\r"] {
+        let bytes = cube_text(|s| {
+            s.replacen("vertex 1 1 0", "vertex 1 1 zero", 1)
+                .replace('\n', ending)
+                .into()
+        });
+        assert_eq!(
+            read_stl(&bytes).unwrap_err(),
+            StlError::BadNumber {
+                line: 5,
+                token: "zero".into()
+            },
+            "{ending:?}"
+        );
+    }
+    // A missing number is a syntax error on the vertex line, not a bad 'vertex' number.
+    let bytes = cube_text(|s| s.replacen("vertex 1 1 0", "vertex 1 1", 1).into());
+    assert!(
+        error(&bytes)
+            .contains("syntax error at line 5: expected 'vertex x y z', found 'vertex 1 1'"),
+        "{}",
+        error(&bytes)
+    );
+    let bytes = cube_text(|s| s.replacen("vertex 1 1 0", "vertex 1 1 0 0", 1).into());
+    assert!(error(&bytes).contains("syntax error at line 5: expected 'vertex x y z'"));
+}
+
+#[test]
+fn binary_files_whose_header_reads_like_text_stay_binary() {
+    // Headers starting with "solid" (with a UTF-8 name) and trailing bytes after the last
+    // triangle: the count field and the floats are not text, so the file is binary.
+    let mut bytes = binary_stl(&common::plane(1.0, 1.0, 2));
+    let header = "solid café exported by a tool".as_bytes();
+    bytes[..header.len()].copy_from_slice(header);
+    bytes.extend_from_slice(b"\nsome trailing text\n");
+    let m = import(&bytes);
+    assert_eq!(m.report.format, StlFormat::Binary);
+    assert_eq!((m.report.triangles, m.report.trailing_bytes), (8, 20));
+}
+
+#[test]
+fn a_file_of_only_degenerate_triangles_is_refused() {
+    let point = [[1.0, 2.0, 3.0]; 3];
+    let line = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+    // Height 1e-9 over a longest edge of 1: below DEGENERATE_HEIGHT_RATIO.
+    let sliver = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 1e-9, 0.0]];
+    assert_eq!(
+        error(&binary_stl(&[point, point, point, point])),
+        "no usable triangles: all 4 are degenerate (zero area, or a height below 1e-7 of the longest edge), so there is no surface to process"
+    );
+    assert!(error(&binary_stl(&[line, sliver, point]))
+        .starts_with("no usable triangles: all 3 are degenerate"));
+    // One usable triangle is enough.
+    let good = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let m = import(&binary_stl(&[line, sliver, point, good]));
+    assert_eq!(m.report.degenerate_triangles, 3);
+}
+
+/// A fan of `n` triangles around one vertex (a disc), and a "book" of `n` triangles on one
+/// edge, every other one wound the other way.
+fn fan_and_book(n: usize) -> (Vec<common::Tri>, Vec<common::Tri>) {
+    let rim = |i: usize| {
+        let a = std::f64::consts::TAU * (i % n) as f64 / n as f64;
+        [a.cos() as f32, a.sin() as f32, 0.0]
+    };
+    let fan = (0..n)
+        .map(|i| [[0.0, 0.0, 0.3], rim(i), rim(i + 1)])
+        .collect();
+    let book = (0..n)
+        .map(|i| {
+            let page = [rim(i)[0], rim(i)[1], 0.5];
+            if i % 2 == 0 {
+                [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], page]
+            } else {
+                [[0.0, 0.0, 1.0], [0.0, 0.0, 0.0], page]
+            }
+        })
+        .collect();
+    (fan, book)
+}
+
+#[test]
+fn a_vertex_or_an_edge_shared_by_many_faces_is_linked_in_near_linear_time() {
+    // Quadratic adjacency needs minutes on these in a debug build; n log n needs a blink.
+    let n = 60_000;
+    let (fan, book) = fan_and_book(n);
+    let fan = import(&binary_stl(&fan));
+    let r = &fan.report;
+    assert_eq!((r.triangles, r.vertices, r.boundary_edges), (n, n + 1, n));
+    assert_eq!(
+        (r.non_manifold_edges, r.components, r.flipped_triangles),
+        (0, 1, 0)
+    );
+    for f in 0..n {
+        let across: Vec<usize> = fan.adjacency.neighbours_of(f).collect();
+        assert_eq!(across.len(), 2, "face {f} has a spoke on each side");
+        assert!(across.contains(&((f + 1) % n)) && across.contains(&((f + n - 1) % n)));
+    }
+    check_adjacency(&fan);
+    let book = import(&binary_stl(&book));
+    let r = &book.report;
+    assert_eq!((r.triangles, r.vertices), (n, n + 2));
+    assert_eq!(
+        (r.non_manifold_edges, r.boundary_edges, r.components),
+        (1, 2 * n, 1)
+    );
+    assert!((0..n).all(|f| book.adjacency.neighbours_of(f).next().is_none()));
+}
+
+#[test]
+fn adjacency_matches_a_brute_force_edge_table_at_any_valence() {
+    use skinpath::mesh::{FaceAdjacency, TriMesh, NO_FACE};
+    use std::collections::BTreeMap;
+    let mut rng = Rng(0xadac_e17c_0ffe_e000);
+    // Few vertices and many faces: valences in the hundreds, non-manifold and wrongly wound
+    // edges everywhere, collapsed faces too; and a sparse soup where valence stays small.
+    for (vertices, faces) in [(12, 4000), (40, 3000), (300, 400), (2000, 3000)] {
+        let positions = (0..vertices)
+            .map(|v| skinpath::math::Point3::new(v as f64, (v * v % 7) as f64, (v % 5) as f64))
+            .collect();
+        let triangles: Vec<[u32; 3]> = (0..faces)
+            .map(|_| std::array::from_fn(|_| rng.below(vertices) as u32))
+            .collect();
+        let mesh = TriMesh::new(positions, triangles.clone()).unwrap();
+        let adj = FaceAdjacency::new(&mesh);
+
+        let collapsed = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+        // Undirected edge → (face, slot, whether the face runs it from low to high vertex).
+        type Users = Vec<(usize, usize, bool)>;
+        let mut edges: BTreeMap<(u32, u32), Users> = BTreeMap::new();
+        for (f, t) in triangles.iter().enumerate().filter(|(_, t)| !collapsed(t)) {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                edges
+                    .entry((a.min(b), a.max(b)))
+                    .or_default()
+                    .push((f, k, a < b));
+            }
+        }
+        let mut expected = vec![[NO_FACE; 3]; faces];
+        let (mut boundary, mut non_manifold, mut conflicts) = (0, 0, 0);
+        let mut component: Vec<usize> = (0..faces).collect();
+        fn root(c: &mut [usize], mut x: usize) -> usize {
+            while c[x] != x {
+                x = c[x];
+            }
+            x
+        }
+        for users in edges.values() {
+            match users.as_slice() {
+                [_] => boundary += 1,
+                [(f, k, d), (g, l, e)] => {
+                    expected[*f][*k] = *g as u32;
+                    expected[*g][*l] = *f as u32;
+                    conflicts += usize::from(d == e);
+                }
+                _ => non_manifold += 1,
+            }
+            for &(g, _, _) in &users[1..] {
+                let (a, b) = (root(&mut component, users[0].0), root(&mut component, g));
+                component[a.max(b)] = a.min(b);
+            }
+        }
+        let components = (0..faces).filter(|&f| root(&mut component, f) == f).count();
+        for (f, slots) in expected.iter().enumerate() {
+            assert_eq!(
+                adj.neighbours(f),
+                *slots,
+                "face {f} of {faces} on {vertices} vertices"
+            );
+        }
+        assert_eq!(
+            (
+                adj.boundary_edges(),
+                adj.non_manifold_edges(),
+                adj.winding_conflicts(),
+                adj.components()
+            ),
+            (boundary, non_manifold, conflicts, components),
+            "{faces} faces on {vertices} vertices"
+        );
+    }
+}

@@ -7,8 +7,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use common::{binary_stl, check_invariants, cylinder, import, plane, refined_cube};
 use skinpath::segment::{
-    grind_curvature_threshold, segment, spray_angle_threshold, Criterion, GrindParams,
-    GrowthThreshold, ParamError, ParamsSpec, SeedRule, SegmentParams, SprayParams,
+    grind_curvature_threshold, grow_regions, planarise, seed_order, segment, spray_angle_threshold,
+    Criterion, GrindParams, GrowthThreshold, ParamError, ParamsSpec, SeedRule, SegmentParams,
+    SprayParams, MIN_ANGLE_RAD,
 };
 use std::f64::consts::PI;
 
@@ -365,5 +366,155 @@ mod real_models {
         for p in &wings {
             assert_near!(p.area, wings[0].area, 0.01 * wings[0].area);
         }
+    }
+}
+
+#[test]
+fn a_theta_max_below_the_precision_of_normals_is_refused() {
+    // The file that hung: a small closed sphere, every face in one region, θmax ≈ 2e-8.
+    let m = import(&binary_stl(&common::sphere(1.0, 10, 5)));
+    for theta in [2e-8, 1e-8, 1e-12, 5e-324, 0.999e-6] {
+        let p = params(
+            Criterion::Angle {
+                alpha_rad: PI - 1e-5,
+            },
+            theta,
+            0.0,
+        );
+        let message = segment(&m.adjacency, &m.geometry, &p)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.starts_with("thetaMax must be at least 1e-6 radians (allowed: 1e-6 to π;"),
+            "{theta}: {message}"
+        );
+    }
+    let message = segment(
+        &m.adjacency,
+        &m.geometry,
+        &params(Criterion::Angle { alpha_rad: 2e-8 }, 1.0, 0.0),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        message.contains("angleThreshold must be at least 1e-6 radians"),
+        "{message}"
+    );
+    // At the limit the promise holds: every face within θmax of its patch's mean normal.
+    let p = params(
+        Criterion::Angle {
+            alpha_rad: PI - 1e-5,
+        },
+        MIN_ANGLE_RAD,
+        0.0,
+    );
+    let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
+    // 80 faces: 20 at the poles, 60 in planar quads whose halves may pair up.
+    let count = check_invariants(&m, &seg, MIN_ANGLE_RAD, 0.0);
+    assert!((50..=80).contains(&count), "{count} patches");
+    // The cube's coplanar pairs have bit-identical normals and still pair up.
+    let cube = import(fixture!("cube_binary.stl"));
+    let seg = segment(&cube.adjacency, &cube.geometry, &p).unwrap();
+    assert_eq!(check_invariants(&cube, &seg, MIN_ANGLE_RAD, 0.0), 6);
+}
+
+#[test]
+fn planarisation_ends_for_any_theta_max_even_unvalidated() {
+    // planarise is public: below the precision (or NaN) it cannot keep the θmax promise,
+    // but it must still end, with every face in exactly one non-empty patch.
+    let m = import(&binary_stl(&common::sphere(1.0, 10, 5)));
+    let regions = grow_regions(&m.adjacency, &m.geometry, GrowthThreshold::Angle(PI - 1e-5));
+    assert_eq!(regions.count, 1);
+    let n = m.report.triangles;
+    for rule in [SeedRule::LowestIndex, SeedRule::Flattest] {
+        let order = seed_order(&m.adjacency, &m.geometry, rule);
+        for theta in [0.0, 5e-324, 1e-12, 1e-8, 2e-8, f64::NAN, MIN_ANGLE_RAD] {
+            let patches = planarise(
+                &m.adjacency,
+                &m.geometry,
+                &regions,
+                theta,
+                &order,
+                &mut |_, _| {},
+            );
+            assert!(
+                (1..=n).contains(&patches.count),
+                "{theta}: {} patches",
+                patches.count
+            );
+            let mut size = vec![0usize; patches.count];
+            for &p in &patches.patch_of {
+                size[p as usize] += 1;
+            }
+            assert!(size.iter().all(|&s| s > 0), "{theta}: an empty patch");
+        }
+    }
+}
+
+#[test]
+fn grinding_parameters_that_derive_zero_or_infinity_are_refused() {
+    let m = import(fixture!("cube_binary.stl"));
+    for (d, delta, lc, value) in [
+        (1e-300, 0.5, 1e150, "0"),
+        (1e300, 0.5, 1e-300, "inf"),
+        (f64::MAX, 0.1, 0.5, "inf"),
+        (5e-324, 0.999, 1.0, "0"),
+    ] {
+        let p = params(
+            Criterion::Grind(GrindParams {
+                indentation_depth: d,
+                min_pressure_ratio: delta,
+                contact_width: lc,
+            }),
+            1.0,
+            0.1,
+        );
+        let message = segment(&m.adjacency, &m.geometry, &p)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.starts_with(
+                "the curvature threshold (1 / mesh unit) derived from grind (indentationDepth "
+            ) && message.contains(&format!(
+                "is {value}, but it must be a finite number greater than 0"
+            )),
+            "{message}"
+        );
+    }
+    // A tiny spray angle is refused as an angle is.
+    let p = params(
+        Criterion::Spray(SprayParams {
+            mean_thickness: 100.0,
+            allowed_deviation: 1e-12,
+            min_thickness: 100.0,
+        }),
+        1.0,
+        0.1,
+    );
+    let message = segment(&m.adjacency, &m.geometry, &p)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("angle threshold (rad) derived from spray (meanThickness 100, allowedDeviation 1e-12, minThickness 100)"), "{message}");
+}
+
+#[test]
+fn theta_max_of_pi_keeps_its_promise_on_a_nearly_closed_patch() {
+    // Found by tests/fuzz.rs: an open tube with one corner pulled down is one patch at
+    // θmax = π; its mean normal is short, and a face almost opposite it was reported at
+    // exactly π.
+    let mut tube = common::cylinder(1.0, 3.0, 16, 3);
+    tube[56][1][2] = 1e-20;
+    let m = import(&binary_stl(&tube));
+    for rule in [
+        SeedRule::Flattest,
+        SeedRule::LowestIndex,
+        SeedRule::LargestArea,
+    ] {
+        let p = SegmentParams {
+            seed_rule: rule,
+            ..params(Criterion::Angle { alpha_rad: PI }, PI, 0.0)
+        };
+        let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
+        check_invariants(&m, &seg, PI, 0.0);
     }
 }

@@ -53,7 +53,8 @@ pub struct ImportedMesh {
 }
 
 /// Reads STL bytes and prepares the mesh, reporting `(stage, fraction)` as it goes
-/// (stages `parse`, `adjacency`, `orient`, `geometry`).
+/// (stages `parse`, `adjacency`, `orient`, `geometry`). Refuses a file whose triangles are
+/// all degenerate ([`StlError::AllDegenerate`]).
 pub fn import_stl(
     bytes: &[u8],
     progress: &mut dyn FnMut(&str, f64),
@@ -65,6 +66,13 @@ pub fn import_stl(
     let orientation = orient_consistently(&mut mesh, &mut adjacency);
     progress("geometry", 0.0);
     let geometry = FaceGeometry::new(&mesh);
+    // Degenerate as the report counts it (FaceGeometry, DEGENERATE_HEIGHT_RATIO): with no
+    // usable normal anywhere, every later stage would run on noise.
+    if geometry.degenerate_count() == mesh.triangle_count() {
+        return Err(StlError::AllDegenerate {
+            count: mesh.triangle_count(),
+        });
+    }
     let (min, max) = mesh.bounding_box();
     let report = MeshReport {
         format: import.info.format,

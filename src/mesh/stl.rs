@@ -4,11 +4,14 @@
 //! `u32` triangle count, then 50 bytes per triangle (normal, three corners as `f32` LE,
 //! a `u16` attribute).
 //! Format detection: a file is binary when `84 + 50·n` equals its size (some binary headers
-//! start with `solid`); otherwise ASCII when it starts with `solid`; otherwise binary with
+//! start with `solid`); otherwise ASCII when it starts with `solid` (after an optional UTF-8
+//! byte-order mark) and its first kilobyte has no control bytes; otherwise binary with
 //! trailing bytes when `84 + 50·n` is smaller than the size.
 //! Deviations: the file's normals are ignored (recomputed from the winding downstream);
 //! triangles with a NaN or infinite coordinate are skipped and counted, not refused;
-//! keywords are matched case-insensitively and a missing `endsolid` is tolerated.
+//! keywords are matched case-insensitively and a missing `endsolid` is tolerated; ASCII is
+//! read as tokens, so LF, CRLF and CR line ends and files on one line all read alike, and
+//! names may hold any bytes (UTF-8, non-breaking spaces).
 //! Cost: one pass over the bytes; nothing is allocated from the header's count before the
 //! file size confirms it.
 //!
@@ -109,6 +112,12 @@ pub enum StlError {
         /// How many were skipped.
         skipped: usize,
     },
+    /// Every triangle read is degenerate: no area, or too thin for a usable normal.
+    #[error("no usable triangles: all {count} are degenerate (zero area, or a height below {ratio:e} of the longest edge), so there is no surface to process", ratio = crate::math::DEGENERATE_HEIGHT_RATIO)]
+    AllDegenerate {
+        /// How many triangles there are (all degenerate).
+        count: usize,
+    },
     /// The welded mesh broke an invariant (too many vertices for 32-bit indices).
     #[error(transparent)]
     Mesh(#[from] MeshError),
@@ -159,10 +168,12 @@ pub fn read_stl_with_progress(
     if bytes.is_empty() {
         return Err(StlError::Empty);
     }
-    let starts_with_solid = starts_with_solid(bytes);
+    // Text editors and some exporters begin UTF-8 text with a byte-order mark.
+    let text = bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes);
+    let starts_with_solid = starts_with_solid(text);
     if bytes.len() < BINARY_PREAMBLE {
         return if starts_with_solid {
-            read_ascii(bytes, progress)
+            read_ascii(text, progress)
         } else {
             Err(StlError::TooShort { len: bytes.len() })
         };
@@ -173,8 +184,8 @@ pub fn read_stl_with_progress(
     if needed == len {
         return read_binary(bytes, declared as usize, progress);
     }
-    if starts_with_solid && looks_like_text(bytes) {
-        return read_ascii(bytes, progress);
+    if starts_with_solid && looks_like_text(text) {
+        return read_ascii(text, progress);
     }
     if needed < len {
         return read_binary(bytes, declared as usize, progress);
@@ -217,17 +228,25 @@ fn looks_like_triangles(data: &[u8]) -> bool {
         })
 }
 
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// Whether the first token (after spaces, line breaks and non-breaking spaces) begins with
+/// `solid`, in any case.
 fn starts_with_solid(bytes: &[u8]) -> bool {
-    let trimmed = bytes.trim_ascii_start();
-    trimmed.len() >= 5 && trimmed[..5].eq_ignore_ascii_case(b"solid")
+    Tokens::new(bytes)
+        .next()
+        .is_some_and(|t| t.text.len() >= 5 && t.text[..5].eq_ignore_ascii_case(b"solid"))
 }
 
-/// ASCII STL is 7-bit text: no NUL or other control bytes but whitespace in its first kilobyte.
+/// ASCII STL is text: no NUL or other control byte but whitespace in its first kilobyte.
+/// Bytes above 127 are allowed (UTF-8 or Latin-1 names, non-breaking spaces). A binary
+/// file is still told apart: its count at bytes 80–83 has a zero high byte below 16.7
+/// million triangles, and its floats and attribute words are full of small bytes.
 fn looks_like_text(bytes: &[u8]) -> bool {
     bytes
         .iter()
         .take(1024)
-        .all(|&b| b.is_ascii_graphic() || b.is_ascii_whitespace())
+        .all(|&b| b >= 0x80 || b.is_ascii_graphic() || b.is_ascii_whitespace())
 }
 
 fn finish(welder: Welder, info: StlInfo) -> Result<StlImport, StlError> {
@@ -285,89 +304,120 @@ fn read_binary(
     )
 }
 
-/// Lines of an ASCII file split into whitespace-separated tokens, with 1-based line numbers.
-struct Lines<'a> {
-    rest: &'a [u8],
+/// A whitespace-separated word of an ASCII file.
+#[derive(Clone, Copy)]
+struct Token<'a> {
+    text: &'a [u8],
+    /// 1-based line number.
     line: usize,
-    total: usize,
+    /// Byte offset of its first byte.
+    start: usize,
 }
 
-impl<'a> Lines<'a> {
-    /// The next non-blank line as (line number, tokens), or `None` at the end of the file.
-    fn next_line(&mut self, tokens: &mut Vec<&'a [u8]>) -> Option<usize> {
-        loop {
-            if self.rest.is_empty() {
-                return None;
-            }
-            let end = self
-                .rest
-                .iter()
-                .position(|&b| b == b'\n')
-                .unwrap_or(self.rest.len());
-            let text = &self.rest[..end];
-            self.rest = self.rest.get(end + 1..).unwrap_or(&[]);
-            self.line += 1;
-            tokens.clear();
-            tokens.extend(
-                text.split(|b| b.is_ascii_whitespace())
-                    .filter(|t| !t.is_empty()),
-            );
-            if !tokens.is_empty() {
-                return Some(self.line);
-            }
+/// The UTF-8 encoding of U+00A0, the non-breaking space some exporters put in names.
+const NBSP: [u8; 2] = [0xC2, 0xA0];
+
+/// Tokens of an ASCII file with their line numbers. Lines end at LF, CRLF or a lone CR
+/// (classic Mac exporters); a UTF-8 non-breaking space separates tokens like a space.
+#[derive(Clone, Copy)]
+struct Tokens<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+    line: usize,
+}
+
+impl<'a> Tokens<'a> {
+    fn new(bytes: &'a [u8]) -> Self {
+        Tokens {
+            bytes,
+            pos: 0,
+            line: 1,
         }
     }
 
-    fn consumed_fraction(&self) -> f64 {
-        1.0 - self.rest.len() as f64 / self.total.max(1) as f64
+    /// Length of the separator at `at` (0 if none).
+    #[inline]
+    fn separator(&self, at: usize) -> usize {
+        match self.bytes[at] {
+            c if c.is_ascii_whitespace() => 1,
+            0xC2 if self.bytes.get(at + 1) == Some(&NBSP[1]) => 2,
+            _ => 0,
+        }
     }
-}
 
-fn shown(tokens: &[&[u8]]) -> String {
-    let joined = tokens
-        .iter()
-        .map(|t| String::from_utf8_lossy(t))
-        .collect::<Vec<_>>()
-        .join(" ");
-    joined.chars().take(40).collect()
-}
-
-fn keyword(token: Option<&&[u8]>, word: &str) -> bool {
-    token.is_some_and(|t| t.eq_ignore_ascii_case(word.as_bytes()))
-}
-
-fn parse_number(token: &[u8], line: usize) -> Result<f32, StlError> {
-    std::str::from_utf8(token)
-        .ok()
-        .and_then(|s| s.parse::<f32>().ok())
-        .ok_or_else(|| StlError::BadNumber {
-            line,
-            token: shown(&[token]),
+    /// The next token, or `None` at the end of the file. Each call consumes at least one
+    /// byte or returns `None`, so a loop over it ends.
+    fn next(&mut self) -> Option<Token<'a>> {
+        while self.pos < self.bytes.len() {
+            match self.bytes[self.pos] {
+                b'\n' => self.line += 1,
+                b'\r' if self.bytes.get(self.pos + 1) != Some(&b'\n') => self.line += 1,
+                _ => {}
+            }
+            match self.separator(self.pos) {
+                0 => break,
+                len => self.pos += len,
+            }
+        }
+        if self.pos == self.bytes.len() {
+            return None;
+        }
+        let start = self.pos;
+        while self.pos < self.bytes.len() && self.separator(self.pos) == 0 {
+            self.pos += 1;
+        }
+        Some(Token {
+            text: &self.bytes[start..self.pos],
+            line: self.line,
+            start,
         })
+    }
+
+    /// The next token without consuming it.
+    fn peek(&self) -> Option<Token<'a>> {
+        let mut copy = *self;
+        copy.next()
+    }
+
+    fn consumed_fraction(&self) -> f64 {
+        self.pos as f64 / self.bytes.len().max(1) as f64
+    }
+
+    /// The line from `token` to its end, whitespace collapsed, cut to 40 characters.
+    fn shown(&self, token: &Token) -> String {
+        let rest = &self.bytes[token.start..];
+        let end = rest
+            .iter()
+            .position(|&b| b == b'\n' || b == b'\r')
+            .unwrap_or(rest.len());
+        let words: Vec<_> = rest[..end]
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|t| !t.is_empty())
+            .map(String::from_utf8_lossy)
+            .collect();
+        words.join(" ").chars().take(40).collect()
+    }
 }
 
-/// Reads the next line and checks that it starts with `word`.
-fn expect_line<'a>(
-    lines: &mut Lines<'a>,
-    tokens: &mut Vec<&'a [u8]>,
-    word: &'static str,
-) -> Result<usize, StlError> {
-    match lines.next_line(tokens) {
-        None => Err(StlError::UnexpectedEnd { line: lines.line }),
-        Some(line) if keyword(tokens.first(), word) => Ok(line),
-        Some(line) => Err(StlError::Syntax {
-            line,
-            expected: word,
-            found: shown(tokens),
-        }),
-    }
+/// Number of lines of `bytes` as [`Tokens`] counts them (LF, CRLF or CR end a line).
+fn line_count(bytes: &[u8]) -> usize {
+    let lone_cr = bytes
+        .windows(2)
+        .filter(|w| w[0] == b'\r' && w[1] != b'\n')
+        .count()
+        + usize::from(bytes.last() == Some(&b'\r'));
+    1 + bytes.iter().filter(|&&b| b == b'\n').count() + lone_cr
+}
+
+fn keyword(token: &Token, word: &str) -> bool {
+    token.text.eq_ignore_ascii_case(word.as_bytes())
 }
 
 fn read_ascii(bytes: &[u8], progress: &mut dyn FnMut(&str, f64)) -> Result<StlImport, StlError> {
     parse_ascii(bytes, progress).map_err(|e| match e {
         // A bad last line with no line break is a file cut off mid-line.
         StlError::Syntax { line, .. } | StlError::BadNumber { line, .. }
-            if !bytes.ends_with(b"\n") && line == bytes.split(|&b| b == b'\n').count() =>
+            if !bytes.ends_with(b"\n") && !bytes.ends_with(b"\r") && line == line_count(bytes) =>
         {
             StlError::UnexpectedEnd { line }
         }
@@ -375,67 +425,104 @@ fn read_ascii(bytes: &[u8], progress: &mut dyn FnMut(&str, f64)) -> Result<StlIm
     })
 }
 
+/// Reads `solid name`, `facet [normal nx ny nz]`, `outer loop`, three `vertex x y z`,
+/// `endloop`, `endfacet`, `endsolid [name]` as a stream of tokens, so a file on one line
+/// reads like one on many. Names run to the end of their line (or, on a line that goes on,
+/// to the next `facet`/`endsolid` after `solid` and the next `solid` after `endsolid`).
 fn parse_ascii(bytes: &[u8], progress: &mut dyn FnMut(&str, f64)) -> Result<StlImport, StlError> {
     // A facet takes about 250 bytes of text; the hint only sizes the first allocation.
     let mut welder = Welder::with_capacity(bytes.len() / 250);
-    let mut lines = Lines {
-        rest: bytes,
-        line: 0,
-        total: bytes.len(),
-    };
-    let mut tokens = Vec::with_capacity(8);
+    let mut tokens = Tokens::new(bytes);
     let (mut in_file, mut skipped) = (0usize, 0usize);
-    let syntax = |line, expected, tokens: &[&[u8]]| StlError::Syntax {
-        line,
+    let syntax = |tokens: &Tokens, token: &Token, expected| StlError::Syntax {
+        line: token.line,
         expected,
-        found: shown(tokens),
+        found: tokens.shown(token),
+    };
+    // The next token, or the end of the file inside a facet.
+    fn next<'a>(tokens: &mut Tokens<'a>, last_line: usize) -> Result<Token<'a>, StlError> {
+        tokens
+            .next()
+            .ok_or(StlError::UnexpectedEnd { line: last_line })
+    }
+    // Skips a name: the rest of `line`, stopping early at one of `stops`.
+    let skip_name = |tokens: &mut Tokens<'_>, line: usize, stops: &[&str]| {
+        while let Some(t) = tokens.peek() {
+            if t.line != line || stops.iter().any(|w| keyword(&t, w)) {
+                break;
+            }
+            tokens.next();
+        }
     };
     let mut in_solid = false;
-    while let Some(line) = lines.next_line(&mut tokens) {
-        let first = tokens.first();
-        if keyword(first, "solid") {
+    while let Some(token) = tokens.next() {
+        if keyword(&token, "solid") {
             in_solid = true;
+            skip_name(&mut tokens, token.line, &["facet", "endsolid"]);
             continue;
         }
-        if keyword(first, "endsolid") {
+        if keyword(&token, "endsolid") {
             in_solid = false;
+            skip_name(&mut tokens, token.line, &["solid"]);
             continue;
         }
-        if !keyword(first, "facet") {
+        if !keyword(&token, "facet") {
             let expected = if in_solid {
                 "'facet' or 'endsolid'"
             } else {
                 "'solid'"
             };
-            return Err(syntax(line, expected, &tokens));
+            return Err(syntax(&tokens, &token, expected));
         }
-        let facet_line = line;
+        let facet_line = token.line;
+        // The file's normal is ignored (recomputed from the winding): skip the rest of the
+        // facet's line up to `outer`.
+        let outer = loop {
+            let t = next(&mut tokens, facet_line)?;
+            if keyword(&t, "outer") || t.line != facet_line {
+                break t;
+            }
+        };
+        if !keyword(&outer, "outer") {
+            return Err(syntax(&tokens, &outer, "'outer'"));
+        }
+        if tokens.peek().is_some_and(|t| keyword(&t, "loop")) {
+            tokens.next();
+        }
         let mut corners = [[0f32; 3]; 3];
         let mut count = 0usize;
-        expect_line(&mut lines, &mut tokens, "outer")?;
+        let mut last_line = outer.line;
         loop {
-            let Some(line) = lines.next_line(&mut tokens) else {
-                return Err(StlError::UnexpectedEnd { line: lines.line });
-            };
-            if keyword(tokens.first(), "endloop") {
+            let t = next(&mut tokens, last_line)?;
+            last_line = t.line;
+            if keyword(&t, "endloop") {
                 break;
             }
-            if !keyword(tokens.first(), "vertex") {
-                return Err(syntax(line, "'vertex' or 'endloop'", &tokens));
-            }
-            if tokens.len() != 4 {
-                return Err(syntax(line, "'vertex x y z'", &tokens));
+            if !keyword(&t, "vertex") {
+                return Err(syntax(&tokens, &t, "'vertex' or 'endloop'"));
             }
             let mut xyz = [0f32; 3];
-            for (k, token) in tokens[1..4].iter().enumerate() {
-                xyz[k] = parse_number(token, line)?;
+            for c in &mut xyz {
+                let n = next(&mut tokens, last_line)?;
+                if n.line != t.line {
+                    return Err(syntax(&tokens, &t, "'vertex x y z'"));
+                }
+                *c = parse_number(&n)?;
+            }
+            if tokens.peek().is_some_and(|n| {
+                n.line == t.line && !keyword(&n, "vertex") && !keyword(&n, "endloop")
+            }) {
+                return Err(syntax(&tokens, &t, "'vertex x y z'"));
             }
             if count < 3 {
                 corners[count] = xyz;
             }
             count += 1;
         }
-        expect_line(&mut lines, &mut tokens, "endfacet")?;
+        let end = next(&mut tokens, last_line)?;
+        if !keyword(&end, "endfacet") {
+            return Err(syntax(&tokens, &end, "endfacet"));
+        }
         if count != 3 {
             return Err(StlError::NotATriangle {
                 line: facet_line,
@@ -449,7 +536,7 @@ fn parse_ascii(bytes: &[u8], progress: &mut dyn FnMut(&str, f64)) -> Result<StlI
             skipped += 1;
         }
         if in_file % PROGRESS_EVERY == 0 {
-            progress("parse", lines.consumed_fraction());
+            progress("parse", tokens.consumed_fraction());
         }
     }
     progress("parse", 1.0);
@@ -462,6 +549,19 @@ fn parse_ascii(bytes: &[u8], progress: &mut dyn FnMut(&str, f64)) -> Result<StlI
             trailing_bytes: 0,
         },
     )
+}
+
+fn parse_number(token: &Token) -> Result<f32, StlError> {
+    std::str::from_utf8(token.text)
+        .ok()
+        .and_then(|s| s.parse::<f32>().ok())
+        .ok_or_else(|| StlError::BadNumber {
+            line: token.line,
+            token: String::from_utf8_lossy(token.text)
+                .chars()
+                .take(40)
+                .collect(),
+        })
 }
 
 /// Writes the given triangles as a binary STL, each with its unit normal from the winding.

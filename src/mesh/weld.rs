@@ -82,6 +82,7 @@ impl Welder {
         }
         let mask = self.table.len() - 1;
         let mut i = (hash >> 32) as usize & mask;
+        // Ends: the table is kept at most half full, so probing meets an empty slot.
         let id = loop {
             let slot = self.table[i];
             if slot.id == EMPTY_ID {

@@ -11,7 +11,7 @@ mod segmentation;
 
 pub use params::{
     grind_curvature_threshold, spray_angle_threshold, Checked, Criterion, GrindParams,
-    GrowthThreshold, ParamError, ParamsSpec, SeedRule, SegmentParams, SprayParams,
+    GrowthThreshold, ParamError, ParamsSpec, SeedRule, SegmentParams, SprayParams, MIN_ANGLE_RAD,
 };
 pub use planarise::{planarise, seed_order, Patches};
 pub use region_growing::{grow_regions, Regions};

@@ -8,11 +8,38 @@
 use crate::math::{acos_clamped, Real};
 use std::f64::consts::PI;
 
+/// Smallest angle (θmax, angle threshold) accepted, radians.
+///
+/// Face normals come from `f32` corners: rounding a corner moves a normal by about
+/// `f32::EPSILON` ≈ 1.2e-7 rad times the triangle's size over its height, so two normals
+/// closer than ~1e-7 rad cannot be told apart. Region growing and planarisation compare
+/// cosines in `f64`, which stop resolving angles near 2·10⁻⁸ rad (`cos θ` rounds to 1 below
+/// ~1.5e-8), where a face no longer fits its own mean. 1e-6 rad (0.2 arc seconds) sits above both with room
+/// to spare and far below any process tolerance.
+pub const MIN_ANGLE_RAD: Real = 1e-6;
+/// The range of θmax and of angle thresholds in words; keep it in step with [`MIN_ANGLE_RAD`].
+const TOO_SMALL_ANGLE: &str = "at least 1e-6 radians (allowed: 1e-6 to π; smaller angles are below the precision of face normals from f32 coordinates)";
+
+/// A number as a person reads it in a message: plain for ordinary magnitudes, with an
+/// exponent otherwise (`{}` alone would spell 1e300 with 301 digits).
+struct Shown(Real);
+
+impl std::fmt::Display for Shown {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let magnitude = self.0.abs();
+        if magnitude == 0.0 || !magnitude.is_finite() || (1e-4..1e15).contains(&magnitude) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
 /// Why segmentation parameters were refused. Messages name the parameter as the page shows it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
     /// A number is NaN or infinite.
-    #[error("{name} must be a finite number, got {value}")]
+    #[error("{name} must be a finite number, got {}", Shown(*.value))]
     NotFinite {
         /// Parameter name.
         name: &'static str,
@@ -20,7 +47,7 @@ pub enum ParamError {
         value: Real,
     },
     /// A number is outside its allowed range.
-    #[error("{name} must be {range}, got {value}")]
+    #[error("{name} must be {range}, got {}", Shown(*.value))]
     OutOfRange {
         /// Parameter name.
         name: &'static str,
@@ -38,6 +65,19 @@ pub enum ParamError {
     /// A derived threshold of zero lets no two triangles join.
     #[error("the derived angle threshold is 0 rad ((mean thickness − allowed deviation) / minimum thickness = 1): no two triangles could join; allow a larger deviation")]
     ZeroThreshold,
+    /// A threshold derived from process parameters is not a usable number (zero, too small,
+    /// or infinite after overflow or underflow).
+    #[error("the {what} derived from {from} is {}, but it must be {range}", Shown(*.value))]
+    DerivedOutOfRange {
+        /// What was derived, with its unit.
+        what: &'static str,
+        /// The parameters it was derived from, with their values.
+        from: String,
+        /// The derived value.
+        value: Real,
+        /// The allowed range, in words.
+        range: &'static str,
+    },
     /// A parameter name that is not known (usually a typo).
     #[error("unknown segmentation parameter '{name}'")]
     Unknown {
@@ -83,7 +123,7 @@ pub struct GrindParams {
 pub enum Criterion {
     /// Normal angle below `alpha_rad` (spraying criterion with `l = 1`).
     Angle {
-        /// Threshold in radians, in (0, π].
+        /// Threshold in radians, from [`MIN_ANGLE_RAD`] to π.
         alpha_rad: Real,
     },
     /// Approximate curvature `θ / l` below `kappa` (grinding criterion, Eq. 5–6).
@@ -135,7 +175,8 @@ pub enum SeedRule {
 pub struct SegmentParams {
     /// Region-growing criterion.
     pub criterion: Criterion,
-    /// Largest angle between a face normal and its patch's mean normal, radians, (0, π].
+    /// Largest angle between a face normal and its patch's mean normal, radians, from
+    /// [`MIN_ANGLE_RAD`] to π.
     pub theta_max_rad: Real,
     /// Patches below this share of the total area are dropped, in [0, 1).
     pub min_area_ratio: Real,
@@ -194,6 +235,19 @@ pub fn spray_angle_threshold(p: &SprayParams) -> Result<Real, ParamError> {
     if alpha == 0.0 {
         return Err(ParamError::ZeroThreshold);
     }
+    if alpha < MIN_ANGLE_RAD {
+        return Err(ParamError::DerivedOutOfRange {
+            what: "angle threshold (rad)",
+            from: format!(
+                "spray (meanThickness {}, allowedDeviation {}, minThickness {})",
+                Shown(qd),
+                Shown(dq),
+                Shown(qmin)
+            ),
+            value: alpha,
+            range: TOO_SMALL_ANGLE,
+        });
+    }
     Ok(alpha)
 }
 
@@ -209,7 +263,43 @@ pub fn grind_curvature_threshold(p: &GrindParams) -> Result<Real, ParamError> {
             range: "strictly between 0 and 1",
         });
     }
-    Ok(2.0 * d * (1.0 - delta * delta) / (lc * lc))
+    let kappa = 2.0 * d * (1.0 - delta * delta) / (lc * lc);
+    // Finite inputs can still over- or underflow (d = 1e300, Lc = 1e-300): 0 would let no
+    // two faces join and ∞ would join all, neither of which the user asked for.
+    if !(kappa.is_finite() && kappa > 0.0) {
+        return Err(ParamError::DerivedOutOfRange {
+            what: "curvature threshold (1 / mesh unit)",
+            from: format!(
+                "grind (indentationDepth {}, minPressureRatio {}, contactWidth {})",
+                Shown(d),
+                Shown(delta),
+                Shown(lc)
+            ),
+            value: kappa,
+            range: "a finite number greater than 0",
+        });
+    }
+    Ok(kappa)
+}
+
+/// An angle in `[MIN_ANGLE_RAD, π]`, or why not.
+fn angle(name: &'static str, value: Real) -> Result<Real, ParamError> {
+    let a = finite(name, value)?;
+    if !(a > 0.0 && a <= PI) {
+        return Err(ParamError::OutOfRange {
+            name,
+            value: a,
+            range: "in (0, π] radians",
+        });
+    }
+    if a < MIN_ANGLE_RAD {
+        return Err(ParamError::OutOfRange {
+            name,
+            value: a,
+            range: TOO_SMALL_ANGLE,
+        });
+    }
+    Ok(a)
 }
 
 impl Criterion {
@@ -217,16 +307,7 @@ impl Criterion {
     pub fn threshold(&self) -> Result<GrowthThreshold, ParamError> {
         match self {
             Criterion::Angle { alpha_rad } => {
-                let a = finite("angleThreshold", *alpha_rad)?;
-                if a > 0.0 && a <= PI {
-                    Ok(GrowthThreshold::Angle(a))
-                } else {
-                    Err(ParamError::OutOfRange {
-                        name: "angleThreshold",
-                        value: a,
-                        range: "in (0, π] radians",
-                    })
-                }
+                angle("angleThreshold", *alpha_rad).map(GrowthThreshold::Angle)
             }
             Criterion::Curvature { kappa } => Ok(GrowthThreshold::Curvature(positive(
                 "curvatureThreshold",
@@ -242,14 +323,8 @@ impl SegmentParams {
     /// Checks every parameter and returns the growing threshold.
     pub fn validate(&self) -> Result<GrowthThreshold, ParamError> {
         let threshold = self.criterion.threshold()?;
-        let theta = finite("thetaMax", self.theta_max_rad)?;
-        if !(theta > 0.0 && theta <= PI) {
-            return Err(ParamError::OutOfRange {
-                name: "thetaMax",
-                value: theta,
-                range: "in (0, π] radians",
-            });
-        }
+        // Below MIN_ANGLE_RAD no face would fit even its own mean (see there).
+        angle("thetaMax", self.theta_max_rad)?;
         let ratio = finite("minAreaRatio", self.min_area_ratio)?;
         if !(0.0..1.0).contains(&ratio) {
             return Err(ParamError::OutOfRange {
@@ -367,5 +442,50 @@ impl TryFrom<ParamsSpec> for SegmentParams {
         };
         params.validate()?;
         Ok(params)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_small_angle_message_states_the_constant() {
+        assert!(TOO_SMALL_ANGLE.starts_with(&format!("at least {MIN_ANGLE_RAD:e} radians")));
+        // At the limit a unit normal still fits its own mean in the cosine test planarise uses.
+        assert!(crate::math::cos(MIN_ANGLE_RAD) < 1.0 - 4.0 * Real::EPSILON);
+    }
+
+    #[test]
+    fn derived_thresholds_that_overflow_or_underflow_are_refused() {
+        for (d, lc, value) in [(1e-300, 1e150, "0"), (1e300, 1e-300, "inf")] {
+            // The message spells huge and tiny inputs with an exponent.
+            let spelled =
+                format!("indentationDepth {d:e}, minPressureRatio 0.5, contactWidth {lc:e}");
+            let p = GrindParams {
+                indentation_depth: d,
+                min_pressure_ratio: 0.5,
+                contact_width: lc,
+            };
+            let message = grind_curvature_threshold(&p).unwrap_err().to_string();
+            assert!(
+                message.contains(&format!(
+                    "is {value}, but it must be a finite number greater than 0"
+                )),
+                "{message}"
+            );
+            assert!(message.contains(&spelled), "{message}");
+        }
+        // (Qd − ΔQd) / Qmin one ulp below 1: arccos ≈ 1.5e-8 rad, below the resolution.
+        let p = SprayParams {
+            mean_thickness: 1.0,
+            allowed_deviation: Real::EPSILON / 2.0,
+            min_thickness: 1.0,
+        };
+        let message = spray_angle_threshold(&p).unwrap_err().to_string();
+        assert!(
+            message.contains("angle threshold (rad) derived from spray"),
+            "{message}"
+        );
     }
 }

@@ -20,12 +20,16 @@
 //!   by then, the patch keeps only the connected faces within `θmax / 2` of its mean around
 //!   the best-aligned face: normals inside a cap of radius `θmax/2` have their mean inside
 //!   the cap, so each is within `θmax` of it. Released faces seed the next patches.
+//! - θmax above `π − MIN_ANGLE_RAD` is tested as `π − MIN_ANGLE_RAD` (no paper): closer to
+//!   π, cosines cannot resolve the angle, and a face almost opposite a patch's mean (a
+//!   nearly closed patch, whose mean is short) could pass the test yet be reported at π.
 //! - Seeds follow [`SeedRule`] instead of the paper's "any boundary face"; the order is a
 //!   counting sort over 4096 bins of the rule's key, ties by face index (linear, deterministic).
 
-use super::{Regions, SeedRule};
+use super::{Regions, SeedRule, MIN_ANGLE_RAD};
 use crate::math::{angle_between, cos, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry};
+use std::f64::consts::PI;
 
 /// How often refused candidates are retried against the updated mean.
 pub const RETRY_ROUNDS: usize = 16;
@@ -105,6 +109,8 @@ struct Grower<'a> {
     /// cos(θmax − margin): members beyond it are near the limit.
     near_cos: Real,
     cap_cos: Real,
+    /// θmax ≥ [`MIN_ANGLE_RAD`]: the numerical tests can keep the θmax promise.
+    guaranteed: bool,
     patch_of: Vec<u32>,
     /// Per face: the patch attempt that last refused (or visited) it.
     stamp: Vec<u32>,
@@ -324,17 +330,24 @@ impl Grower<'_> {
             }
         }
         self.keep_largest_part(p);
-        debug_assert!({
-            let sum = self.sum_of_members();
-            let len = sum.norm();
-            self.members
-                .iter()
-                .all(|&f| self.fits(f as usize, &sum, len))
-        });
+        debug_assert!(
+            !self.guaranteed || {
+                let sum = self.sum_of_members();
+                let len = sum.norm();
+                self.members
+                    .iter()
+                    .all(|&f| self.fits(f as usize, &sum, len))
+            }
+        );
     }
 }
 
 /// Planarises every region (step 2), trying seeds in `seed_order`.
+///
+/// The θmax promise needs `theta_max_rad` in `[MIN_ANGLE_RAD, π]` ([`SegmentParams::validate`]
+/// checks it); any other value, NaN included, still ends, in at most one patch per face.
+///
+/// [`SegmentParams::validate`]: super::SegmentParams::validate
 pub fn planarise(
     adjacency: &FaceAdjacency,
     geometry: &FaceGeometry,
@@ -348,9 +361,12 @@ pub fn planarise(
         adjacency,
         geometry,
         region_of: &regions.region_of,
-        cos_theta: cos(theta_max_rad),
+        // Within MIN_ANGLE_RAD of π the cosine test cannot tell a face from its antipode
+        // either: cap θmax there, so a face it accepts is reported below θmax too.
+        cos_theta: cos(theta_max_rad.min(PI - MIN_ANGLE_RAD)),
         near_cos: cos((theta_max_rad - TRIM_MARGIN_RAD).max(0.0)),
         cap_cos: cos(0.5 * theta_max_rad),
+        guaranteed: theta_max_rad >= MIN_ANGLE_RAD,
         patch_of: vec![UNASSIGNED; n],
         stamp: vec![0; n],
         attempt: 0,
@@ -358,6 +374,12 @@ pub fn planarise(
         refused: Vec::new(),
         released: Vec::new(),
     };
+    // Termination: every pass of the loop below ends with at least one face in the new
+    // patch, and faces of finished patches are never released again (grow takes only
+    // unassigned faces, repair releases only members of the patch being built), so there
+    // are at most n passes. Inside a pass, the seed search pops `released` (each entry
+    // pushed by one release of a member, at most n per pass) or advances `next`; `grow`
+    // and `repair` have bounded rounds whose inner loops each consume a finite list.
     let mut count = 0u32;
     let mut next = 0usize;
     let mut assigned = 0usize;
@@ -383,6 +405,13 @@ pub fn planarise(
         let Some(seed) = seed else { break };
         grower.grow(seed, count);
         grower.repair(count);
+        if grower.members.is_empty() {
+            // Repair released every face (possible when the mean of what grew fits none of
+            // them): the seed alone is a patch, within θmax of its own normal for any
+            // θmax ≥ MIN_ANGLE_RAD. Without this the seed would come back forever.
+            grower.patch_of[seed] = count;
+            grower.members.push(seed as u32);
+        }
         assigned += grower.members.len();
         count += 1;
         if assigned >= next_report {
@@ -391,6 +420,7 @@ pub fn planarise(
         }
     }
     debug_assert!(grower.patch_of.iter().all(|&p| p != UNASSIGNED));
+    debug_assert!(count as usize <= n);
     Patches {
         patch_of: grower.patch_of,
         count: count as usize,

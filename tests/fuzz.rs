@@ -1,0 +1,699 @@
+//! Mutation fuzzing: mangled STL files through import and segmentation, and random or extreme
+//! segmentation parameters. Every call must return `Ok` or an `Err` with a message, never
+//! panic or hang, and whatever is accepted must keep the documented invariants.
+//!
+//! Fixed seed and a small case budget, so `cargo test` (debug build) and the WebAssembly run
+//! stay at a few seconds. Natively, `SKINPATH_FUZZ_CASES=N` sets the number of cases per
+//! test, `SKINPATH_FUZZ_SECONDS=S` runs each test for S seconds instead, and
+//! `SKINPATH_FUZZ_SEED=X` changes the seed; `npm run fuzz` runs a long release-mode pass and
+//! prints how many cases of each kind ran. A failing case is written to the Cargo target's
+//! temporary folder and its seed, index and kind are printed.
+
+mod common;
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+use common::{binary_stl, check_adjacency, check_invariants};
+use skinpath::mesh::{import_stl, ImportedMesh};
+use skinpath::segment::{
+    segment, Criterion, GrindParams, GrowthThreshold, ParamsSpec, SeedRule, SegmentParams,
+    SprayParams, MIN_ANGLE_RAD,
+};
+use std::f64::consts::PI;
+
+/// SplitMix64 (Steele, Lea, Flood 2014): tiny, full-period and good enough to pick mutations.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `0..n` (n > 0); the modulo bias is irrelevant here.
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+
+    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
+        &items[self.below(items.len())]
+    }
+
+    /// Uniform in [0, 1).
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+const DEFAULT_SEED: u64 = 0x5eed_f022_2026_0006;
+
+/// How long a test runs: a number of cases, or (natively) a number of seconds.
+struct Budget {
+    cases: usize,
+    #[cfg(not(target_arch = "wasm32"))]
+    until: Option<std::time::Instant>,
+}
+
+impl Budget {
+    /// `native` cases natively, `wasm` in WebAssembly, unless the environment says otherwise.
+    fn new(native: usize, wasm: usize) -> Self {
+        #[cfg(target_arch = "wasm32")]
+        {
+            let _ = native;
+            Budget { cases: wasm }
+        }
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let _ = wasm;
+            let var = |name| std::env::var(name).ok().and_then(|v| v.parse::<u64>().ok());
+            let until = var("SKINPATH_FUZZ_SECONDS")
+                .map(|s| std::time::Instant::now() + std::time::Duration::from_secs(s));
+            let cases = match (var("SKINPATH_FUZZ_CASES"), until) {
+                (Some(n), _) => n as usize,
+                (None, Some(_)) => usize::MAX,
+                (None, None) => native,
+            };
+            Budget { cases, until }
+        }
+    }
+
+    fn more(&self, done: usize) -> bool {
+        #[cfg(not(target_arch = "wasm32"))]
+        if let Some(until) = self.until {
+            // Check the clock every 64 cases only.
+            if done % 64 == 0 && std::time::Instant::now() >= until {
+                return false;
+            }
+        }
+        done < self.cases
+    }
+}
+
+fn seed() -> u64 {
+    #[cfg(not(target_arch = "wasm32"))]
+    if let Some(seed) = std::env::var("SKINPATH_FUZZ_SEED")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
+        return seed;
+    }
+    DEFAULT_SEED
+}
+
+/// Prints (and natively saves) the case being run if it panics.
+struct CaseGuard<'a> {
+    what: String,
+    bytes: &'a [u8],
+}
+
+impl Drop for CaseGuard<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            eprintln!(
+                "fuzz case failed: {} ({} bytes)",
+                self.what,
+                self.bytes.len()
+            );
+            #[cfg(not(target_arch = "wasm32"))]
+            {
+                let path =
+                    std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-failure.stl");
+                if std::fs::write(&path, self.bytes).is_ok() {
+                    eprintln!("the bytes are in {}", path.display());
+                }
+            }
+        }
+    }
+}
+
+/// The files mutations start from: every fixture, a few generated meshes, and natively
+/// windows of the shared real models.
+fn sources() -> Vec<(String, Vec<u8>)> {
+    let mut out: Vec<(String, Vec<u8>)> = vec![];
+    for (name, bytes) in [
+        ("all_nan.stl", fixture!("all_nan.stl")),
+        ("ascii_truncated.stl", fixture!("ascii_truncated.stl")),
+        ("bad_number.stl", fixture!("bad_number.stl")),
+        (
+            "binary_header_starts_with_solid.stl",
+            fixture!("binary_header_starts_with_solid.stl"),
+        ),
+        ("count_too_large.stl", fixture!("count_too_large.stl")),
+        ("cube_ascii.stl", fixture!("cube_ascii.stl")),
+        ("cube_binary.stl", fixture!("cube_binary.stl")),
+        (
+            "cube_crlf_uppercase.stl",
+            fixture!("cube_crlf_uppercase.stl"),
+        ),
+        (
+            "degenerate_triangle.stl",
+            fixture!("degenerate_triangle.stl"),
+        ),
+        ("empty.stl", fixture!("empty.stl")),
+        ("flipped_faces.stl", fixture!("flipped_faces.stl")),
+        ("four_vertices.stl", fixture!("four_vertices.stl")),
+        ("inf_vertex_ascii.stl", fixture!("inf_vertex_ascii.stl")),
+        ("inside_out_cube.stl", fixture!("inside_out_cube.stl")),
+        ("nan_vertex.stl", fixture!("nan_vertex.stl")),
+        ("no_endsolid.stl", fixture!("no_endsolid.stl")),
+        ("no_triangles.stl", fixture!("no_triangles.stl")),
+        ("nonmanifold_edge.stl", fixture!("nonmanifold_edge.stl")),
+        ("not_stl.txt", fixture!("not_stl.txt")),
+        ("open_strip.stl", fixture!("open_strip.stl")),
+        ("png_header.stl", fixture!("png_header.stl")),
+        ("single_triangle.stl", fixture!("single_triangle.stl")),
+        ("trailing_bytes.stl", fixture!("trailing_bytes.stl")),
+        ("truncated.stl", fixture!("truncated.stl")),
+        ("two_components.stl", fixture!("two_components.stl")),
+    ] {
+        out.push((name.into(), bytes.to_vec()));
+    }
+    out.push(("sphere".into(), binary_stl(&common::sphere(1.0, 12, 6))));
+    out.push((
+        "cylinder".into(),
+        binary_stl(&common::cylinder(1.0, 3.0, 16, 3)),
+    ));
+    // A fan (one vertex of valence 40) and a book (one edge of 40 faces).
+    let rim = |i: usize| {
+        let a = std::f64::consts::TAU * (i % 40) as f64 / 40.0;
+        [a.cos() as f32, a.sin() as f32, 0.0]
+    };
+    let fan: Vec<common::Tri> = (0..40)
+        .map(|i| [[0.0, 0.0, 0.2], rim(i), rim(i + 1)])
+        .collect();
+    out.push(("fan".into(), binary_stl(&fan)));
+    let book: Vec<common::Tri> = (0..40)
+        .map(|i| {
+            [
+                [0.0, 0.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [rim(i)[0], rim(i)[1], 0.5],
+            ]
+        })
+        .collect();
+    out.push(("book".into(), binary_stl(&book)));
+    #[cfg(not(target_arch = "wasm32"))]
+    out.extend(model_windows());
+    out
+}
+
+/// Two windows of 400 triangles (start and middle) of each shared model, as files of their
+/// own encoding.
+#[cfg(not(target_arch = "wasm32"))]
+fn model_windows() -> Vec<(String, Vec<u8>)> {
+    const WINDOW: usize = 400;
+    let mut out = vec![];
+    for name in [
+        "airplane_10796_pymeshlab.stl",
+        "b747_14062_flightgear.stl",
+        "bwb_4464_pygeo_ascii.stl",
+        "orion_51736_nasa.stl",
+        "wingbody_79868_flow360.stl",
+    ] {
+        let bytes = common::model(name);
+        if bytes.starts_with(b"solid") {
+            // ASCII: whole facets from the first and from the middle.
+            let text = String::from_utf8_lossy(&bytes);
+            let facets: Vec<&str> = text.split_inclusive("endfacet").collect();
+            for start in [0, facets.len() / 2] {
+                let end = (start + WINDOW).min(facets.len().saturating_sub(1));
+                let mut window = String::from("solid window\n");
+                for f in &facets[start..end] {
+                    // Each piece starts with what precedes its facet (a line break, the header).
+                    let at = f.to_ascii_lowercase().find("facet").unwrap_or(0);
+                    window.push_str(&f[at..]);
+                    window.push('\n');
+                }
+                window.push_str("endsolid window\n");
+                out.push((format!("{name}@{start}"), window.into_bytes()));
+            }
+        } else {
+            let count = (bytes.len() - 84) / 50;
+            for start in [0, count / 2] {
+                let n = WINDOW.min(count - start);
+                let mut window = bytes[..80].to_vec();
+                window.extend_from_slice(&(n as u32).to_le_bytes());
+                window.extend_from_slice(&bytes[84 + 50 * start..84 + 50 * (start + n)]);
+                out.push((format!("{name}@{start}"), window));
+            }
+        }
+    }
+    out
+}
+
+/// The kinds of mutation, applied one to three at a time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mutation {
+    BitFlip,
+    ByteOverwrite,
+    Truncate,
+    Splice,
+    DuplicateRange,
+    DeleteRange,
+    HeaderCount,
+    SpecialFloat,
+    AsciiToken,
+    LineEnds,
+}
+
+const MUTATIONS: [Mutation; 10] = [
+    Mutation::BitFlip,
+    Mutation::ByteOverwrite,
+    Mutation::Truncate,
+    Mutation::Splice,
+    Mutation::DuplicateRange,
+    Mutation::DeleteRange,
+    Mutation::HeaderCount,
+    Mutation::SpecialFloat,
+    Mutation::AsciiToken,
+    Mutation::LineEnds,
+];
+
+const SPECIAL_F32: [f32; 12] = [
+    f32::NAN,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::MAX,
+    -f32::MAX,
+    f32::MIN_POSITIVE,
+    1e-45,
+    -0.0,
+    0.0,
+    1.0,
+    1e20,
+    1e-20,
+];
+
+const TOKENS: [&str; 26] = [
+    "nan", "NaN", "inf", "-inf", "1e39", "-1e39", "1e-50", "0", "-0", "1e", "+", "0x10", "1,5",
+    "1.0.0", "vertex", "facet", "endfacet", "outer", "loop", "endloop", "solid", "endsolid",
+    "normal", "café", "\u{a0}", "",
+];
+
+/// Ranges `[start, end)` of the whitespace-separated tokens of `bytes`.
+fn token_ranges(bytes: &[u8]) -> Vec<(usize, usize)> {
+    let mut out = vec![];
+    let mut start = None;
+    for (i, b) in bytes.iter().enumerate() {
+        match (b.is_ascii_whitespace(), start) {
+            (true, Some(s)) => {
+                out.push((s, i));
+                start = None;
+            }
+            (false, None) => start = Some(i),
+            _ => {}
+        }
+    }
+    if let Some(s) = start {
+        out.push((s, bytes.len()));
+    }
+    out
+}
+
+fn mutate(rng: &mut Rng, kind: Mutation, bytes: &mut Vec<u8>, other: &[u8]) {
+    let len = bytes.len();
+    match kind {
+        Mutation::BitFlip if len > 0 => {
+            for _ in 0..1 + rng.below(8) {
+                let i = rng.below(len);
+                bytes[i] ^= 1 << rng.below(8);
+            }
+        }
+        Mutation::ByteOverwrite if len > 0 => {
+            const INTERESTING: [u8; 12] = [
+                0, 0xff, 0x7f, 0x80, b'\n', b'\r', b' ', b'-', b'.', b'e', 0xc2, 0xa0,
+            ];
+            for _ in 0..1 + rng.below(8) {
+                let i = rng.below(len);
+                bytes[i] = if rng.below(2) == 0 {
+                    *rng.pick(&INTERESTING)
+                } else {
+                    rng.next() as u8
+                };
+            }
+        }
+        Mutation::Truncate => bytes.truncate(rng.below(len + 1)),
+        Mutation::Splice => {
+            let cut = rng.below(len + 1);
+            let from = rng.below(other.len() + 1);
+            bytes.truncate(cut);
+            bytes.extend_from_slice(&other[from..]);
+        }
+        Mutation::DuplicateRange if len > 0 => {
+            let start = rng.below(len);
+            let end = (start + 1 + rng.below(200)).min(len);
+            let copy = bytes[start..end].to_vec();
+            let at = rng.below(len + 1);
+            for _ in 0..1 + rng.below(3) {
+                bytes.splice(at..at, copy.iter().copied());
+            }
+        }
+        Mutation::DeleteRange if len > 0 => {
+            let start = rng.below(len);
+            let end = (start + 1 + rng.below(200)).min(len);
+            bytes.drain(start..end);
+        }
+        Mutation::HeaderCount if len >= 84 => {
+            let count = (len.saturating_sub(84) / 50) as u32;
+            let random = rng.next() as u32;
+            let value = *rng.pick(&[
+                0,
+                1,
+                count.wrapping_sub(1),
+                count + 1,
+                count.wrapping_mul(2),
+                u32::MAX,
+                u32::MAX / 50,
+                random,
+            ]);
+            bytes[80..84].copy_from_slice(&value.to_le_bytes());
+        }
+        Mutation::SpecialFloat if len >= 84 + 50 => {
+            // A corner or normal coordinate of a binary record (or any aligned word).
+            let records = (len - 84) / 50;
+            let i = 84 + 50 * rng.below(records) + 4 * rng.below(12);
+            bytes[i..i + 4].copy_from_slice(&rng.pick(&SPECIAL_F32).to_le_bytes());
+        }
+        Mutation::AsciiToken => {
+            let tokens = token_ranges(bytes);
+            if tokens.is_empty() {
+                return;
+            }
+            let (start, end) = *rng.pick(&tokens);
+            match rng.below(4) {
+                // Replace with a keyword, a special number or junk.
+                0 | 1 => {
+                    bytes.splice(start..end, rng.pick(&TOKENS).bytes());
+                }
+                // Delete it.
+                2 => {
+                    bytes.drain(start..end);
+                }
+                // Repeat it.
+                _ => {
+                    let copy: Vec<u8> = bytes[start..end].iter().copied().chain([b' ']).collect();
+                    bytes.splice(start..start, copy);
+                }
+            }
+        }
+        Mutation::LineEnds => {
+            let (from, to): (&[u8], &[u8]) = *rng.pick(&[
+                (b"\n".as_slice(), b"\r".as_slice()),
+                (b"\n", b"\r\n"),
+                (b"\n", b" "),
+                (b"\n", b""),
+                (b" ", b"\t\xc2\xa0"),
+            ]);
+            let mut out = Vec::with_capacity(bytes.len());
+            let mut i = 0;
+            while i < bytes.len() {
+                if bytes[i..].starts_with(from) {
+                    out.extend_from_slice(to);
+                    i += from.len();
+                } else {
+                    out.push(bytes[i]);
+                    i += 1;
+                }
+            }
+            *bytes = out;
+        }
+        _ => {}
+    }
+}
+
+/// The parameter sets every accepted mesh is segmented with (one per case, in turn).
+fn stl_case_params() -> [SegmentParams; 5] {
+    let with = |criterion, theta_max_rad, min_area_ratio, seed_rule| SegmentParams {
+        criterion,
+        theta_max_rad,
+        min_area_ratio,
+        seed_rule,
+    };
+    [
+        SegmentParams::default(),
+        with(
+            Criterion::Curvature { kappa: 2.0 },
+            0.8,
+            0.01,
+            SeedRule::LargestArea,
+        ),
+        with(
+            Criterion::Angle { alpha_rad: 0.2 },
+            0.3,
+            0.0,
+            SeedRule::LowestIndex,
+        ),
+        with(
+            Criterion::Angle { alpha_rad: PI },
+            PI,
+            0.0,
+            SeedRule::Flattest,
+        ),
+        with(
+            Criterion::Angle { alpha_rad: PI },
+            1e-5,
+            0.0,
+            SeedRule::Flattest,
+        ),
+    ]
+}
+
+/// What import promises on success: a valid mesh, a report that matches it, symmetric
+/// adjacency across shared edges.
+fn check_import(m: &ImportedMesh) {
+    m.mesh.validate().expect("an accepted mesh is valid");
+    let r = &m.report;
+    assert_eq!(r.triangles, m.mesh.triangle_count());
+    assert_eq!(r.vertices, m.mesh.vertex_count());
+    assert_eq!(r.area, m.geometry.total_area());
+    assert!(r.area.is_finite() && r.area > 0.0, "area {}", r.area);
+    assert_eq!(r.components, m.adjacency.components());
+    assert_eq!(r.boundary_edges, m.adjacency.boundary_edges());
+    assert_eq!(r.non_manifold_edges, m.adjacency.non_manifold_edges());
+    assert_eq!(r.degenerate_triangles, m.geometry.degenerate_count());
+    assert!(
+        r.degenerate_triangles < r.triangles,
+        "all degenerate accepted"
+    );
+    assert!((0..3).all(|k| r.bbox_min[k] <= r.bbox_max[k]));
+    check_adjacency(m);
+}
+
+#[test]
+fn mutated_stl_files_are_read_or_refused_and_what_is_read_segments_soundly() {
+    let sources = sources();
+    let params = stl_case_params();
+    let budget = Budget::new(1500, 300);
+    let mut rng = Rng(seed());
+    // Per kind: cases, accepted by import.
+    let mut tally = [(0usize, 0usize); MUTATIONS.len()];
+    let (mut done, mut accepted, mut segmented) = (0, 0, 0);
+    while budget.more(done) {
+        let (name, source) = rng.pick(&sources);
+        let (_, other) = rng.pick(&sources);
+        let mut bytes = source.clone();
+        let mut kinds = vec![];
+        for _ in 0..1 + rng.below(3) {
+            let kind = *rng.pick(&MUTATIONS);
+            mutate(&mut rng, kind, &mut bytes, other);
+            kinds.push(kind);
+        }
+        let _guard = CaseGuard {
+            what: format!("seed {:#x}, case {done}, {name}, {kinds:?}", seed()),
+            bytes: &bytes,
+        };
+        let mut last = 0.0;
+        let mut progress = |_: &str, fraction: f64| {
+            assert!((0.0..=1.0).contains(&fraction), "progress {fraction}");
+            last = fraction;
+        };
+        let result = import_stl(&bytes, &mut progress);
+        let ok = result.is_ok();
+        for &kind in &kinds {
+            let t = &mut tally[kind as usize];
+            t.0 += 1;
+            t.1 += usize::from(ok);
+        }
+        match result {
+            Err(e) => assert!(!e.to_string().is_empty()),
+            Ok(m) => {
+                accepted += 1;
+                check_import(&m);
+                let p = &params[done % params.len()];
+                let seg = segment(&m.adjacency, &m.geometry, p).expect("valid parameters");
+                check_invariants(&m, &seg, p.theta_max_rad, p.min_area_ratio);
+                segmented += 1;
+            }
+        }
+        done += 1;
+    }
+    eprintln!(
+        "STL mutation fuzz: {done} cases from {} sources, {accepted} imported and segmented ({segmented})",
+        sources.len()
+    );
+    for (kind, (cases, ok)) in MUTATIONS.iter().zip(tally) {
+        eprintln!("  {kind:?}: {cases} cases, {ok} imported");
+    }
+    if done >= 1000 {
+        assert!(
+            accepted * 10 > done,
+            "mutations should leave many files readable ({accepted} of {done})"
+        );
+    }
+}
+
+/// A number from the edges of the domain or from the ordinary range.
+fn wild(rng: &mut Rng) -> f64 {
+    const EDGES: [f64; 22] = [
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        0.0,
+        -0.0,
+        -1.0,
+        5e-324,
+        1e-300,
+        1e-12,
+        2e-8,
+        MIN_ANGLE_RAD,
+        0.999e-6,
+        1e-3,
+        0.5,
+        1.0,
+        PI,
+        PI + 1e-12,
+        4.0,
+        1e9,
+        1e300,
+        f64::MAX,
+        -f64::MAX,
+    ];
+    match rng.below(3) {
+        0 => *rng.pick(&EDGES),
+        1 => rng.unit() * PI,
+        _ => libm_free_pow10(rng.below(40) as i32 - 20) * rng.unit(),
+    }
+}
+
+/// `10^e` by repeated multiplication (exact enough for picking magnitudes).
+fn libm_free_pow10(e: i32) -> f64 {
+    let mut x = 1.0;
+    for _ in 0..e.unsigned_abs() {
+        x *= 10.0;
+    }
+    if e < 0 {
+        1.0 / x
+    } else {
+        x
+    }
+}
+
+#[test]
+fn any_segmentation_parameters_give_a_result_or_an_error() {
+    let meshes = [
+        common::import(&binary_stl(&common::sphere(1.0, 10, 5))),
+        common::import(fixture!("cube_binary.stl")),
+        common::import(&binary_stl(&common::cylinder(1.0, 2.0, 12, 2))),
+    ];
+    let budget = Budget::new(3000, 600);
+    let mut rng = Rng(seed() ^ 0x9a7a_3e7e_5000_0000);
+    let rules = [
+        SeedRule::LowestIndex,
+        SeedRule::Flattest,
+        SeedRule::LargestArea,
+    ];
+    let (mut done, mut accepted) = (0, 0);
+    let mut by_criterion = [(0usize, 0usize); 4];
+    while budget.more(done) {
+        let kind = rng.below(4);
+        let criterion = match kind {
+            0 => Criterion::Angle {
+                alpha_rad: wild(&mut rng),
+            },
+            1 => Criterion::Curvature {
+                kappa: wild(&mut rng),
+            },
+            2 => Criterion::Spray(SprayParams {
+                mean_thickness: wild(&mut rng),
+                allowed_deviation: wild(&mut rng),
+                min_thickness: wild(&mut rng),
+            }),
+            _ => Criterion::Grind(GrindParams {
+                indentation_depth: wild(&mut rng),
+                min_pressure_ratio: wild(&mut rng),
+                contact_width: wild(&mut rng),
+            }),
+        };
+        let p = SegmentParams {
+            criterion,
+            theta_max_rad: wild(&mut rng),
+            min_area_ratio: if rng.below(2) == 0 {
+                wild(&mut rng)
+            } else {
+                rng.unit() * 0.2
+            },
+            seed_rule: *rng.pick(&rules),
+        };
+        let m = rng.pick(&meshes);
+        let _guard = CaseGuard {
+            what: format!("seed {:#x}, parameter case {done}: {p:?}", seed()),
+            bytes: &[],
+        };
+        by_criterion[kind].0 += 1;
+        match segment(&m.adjacency, &m.geometry, &p) {
+            Ok(seg) => {
+                accepted += 1;
+                by_criterion[kind].1 += 1;
+                // Accepted values are the documented ranges, and the promises hold.
+                assert!(p.theta_max_rad >= MIN_ANGLE_RAD && p.theta_max_rad <= PI);
+                assert!((0.0..1.0).contains(&p.min_area_ratio));
+                let t = seg.threshold.value();
+                assert!(t.is_finite() && t > 0.0, "threshold {t}");
+                if let GrowthThreshold::Angle(a) = seg.threshold {
+                    assert!((MIN_ANGLE_RAD..=PI).contains(&a));
+                }
+                check_invariants(m, &seg, p.theta_max_rad, p.min_area_ratio);
+            }
+            Err(e) => assert!(!e.to_string().is_empty()),
+        }
+        // The same values spelled as the page sends them go through the same checks.
+        let spec = ParamsSpec {
+            angle_threshold: match criterion {
+                Criterion::Angle { alpha_rad } => Some(alpha_rad),
+                _ => None,
+            },
+            curvature_threshold: match criterion {
+                Criterion::Curvature { kappa } => Some(kappa),
+                _ => None,
+            },
+            spray: match criterion {
+                Criterion::Spray(s) => Some(s.into()),
+                _ => None,
+            },
+            grind: match criterion {
+                Criterion::Grind(g) => Some(g.into()),
+                _ => None,
+            },
+            theta_max: Some(p.theta_max_rad),
+            min_area_ratio: Some(p.min_area_ratio),
+            seed_rule: Some(p.seed_rule),
+            ..ParamsSpec::default()
+        };
+        assert_eq!(
+            SegmentParams::try_from(spec).ok(),
+            p.validate().ok().map(|_| p)
+        );
+        done += 1;
+    }
+    eprintln!("parameter fuzz: {done} cases, {accepted} accepted");
+    for (name, (cases, ok)) in ["angle", "curvature", "spray", "grind"]
+        .iter()
+        .zip(by_criterion)
+    {
+        eprintln!("  {name}: {cases} cases, {ok} accepted");
+    }
+}
