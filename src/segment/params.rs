@@ -5,14 +5,14 @@
 //! grinding (Hertz contact) `κ ≤ 2·d·(1 − δ²) / Lc²` (Eq. 4); spraying
 //! `α_th ≤ arccos((Qd − ΔQd) / Qmin)` (Eq. 9).
 
-use crate::math::{acos_clamped, Real};
+use crate::math::{acos_clamped, Compact, Real};
 use std::f64::consts::PI;
 
 /// Why segmentation parameters were refused. Messages name the parameter as the page shows it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
     /// A number is NaN or infinite.
-    #[error("{name} must be a finite number, got {value}")]
+    #[error("{name} must be a finite number, got {}", Compact(*value))]
     NotFinite {
         /// Parameter name.
         name: &'static str,
@@ -20,7 +20,7 @@ pub enum ParamError {
         value: Real,
     },
     /// A number is outside its allowed range.
-    #[error("{name} must be {range}, got {value}")]
+    #[error("{name} must be {range}, got {}", Compact(*value))]
     OutOfRange {
         /// Parameter name.
         name: &'static str,

@@ -66,7 +66,7 @@ pub enum ToolPathError {
         what: &'static str,
     },
     /// The speed is not finite and positive.
-    #[error("the tool-path speed must be finite and positive, got {0}")]
+    #[error("the tool-path speed must be finite and positive, got {}", crate::math::Compact(*.0))]
     BadSpeed(Real),
     /// An export option is out of range.
     #[error("export option {name} is invalid: {why}")]
