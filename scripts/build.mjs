@@ -3,12 +3,14 @@
 //   dist/*                                    the page sources from www/
 //   dist/vendor/…                             third-party modules listed in www/vendor.json
 // `npm run build` runs scripts/setup.sh first; run directly, a missing tool is named in one line.
-import { execFileSync } from 'node:child_process';
+import { execFileSync, spawnSync } from 'node:child_process';
 import { appendFileSync, cpSync, mkdirSync, readFileSync, rmSync, existsSync, statSync } from 'node:fs';
-import { dirname, join, resolve } from 'node:path';
+import { delimiter, dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const root = resolve(dirname(fileURLToPath(import.meta.url)), '..');
+// Where rustup and `cargo install` put wasm-pack and wasm-bindgen, often missing from PATH.
+if (process.env.HOME) process.env.PATH = `${join(process.env.HOME, '.cargo', 'bin')}${delimiter}${process.env.PATH ?? ''}`;
 const dist = join(root, 'dist');
 const pkg = join(dist, 'pkg');
 
@@ -119,13 +121,24 @@ ${calls.join('\n')}
   console.error(`build: guarded ${classes.join(', ')} against use after free()`);
 }
 
+/** Fails at once, in one line, when a tool the build needs is missing (a fresh clone). */
+function need(cmd) {
+  if (spawnSync(cmd, ['--version'], { stdio: 'ignore' }).error?.code === 'ENOENT') {
+    fail(`${cmd.split(/[\\/]/).pop()} is not installed; run \`npm run setup\` (bash scripts/setup.sh) first`);
+  }
+}
+
 function buildWasm() {
+  const localWasmOpt = join(root, 'node_modules', '.bin', 'wasm-opt');
+  const wasmOpt = existsSync(localWasmOpt) ? localWasmOpt : 'wasm-opt';
+  need('wasm-pack');
+  need('wasm-bindgen');
+  need(wasmOpt);
   run('wasm-pack', ['build', '--release', '--target', 'web', '--out-dir', pkg, '--out-name', 'skinpath',
     '--no-pack', '--', '--features', 'wasm']);
   const wasm = join(pkg, 'skinpath_bg.wasm');
   const before = statSync(wasm).size;
-  const wasmOpt = join(root, 'node_modules', '.bin', 'wasm-opt');
-  run(existsSync(wasmOpt) ? wasmOpt : 'wasm-opt', ['-O3', wasm, '-o', wasm]);
+  run(wasmOpt, ['-O3', wasm, '-o', wasm]);
   console.error(`build: wasm ${before} -> ${statSync(wasm).size} bytes after wasm-opt`);
   guardGlue(join(pkg, 'skinpath.js'));
 }
@@ -138,7 +151,7 @@ function copySite() {
   const files = JSON.parse(readFileSync(manifest, 'utf8'));
   for (const [from, to] of Object.entries(files)) {
     const src = join(root, 'node_modules', from);
-    if (!existsSync(src)) throw new Error(`vendor.json names ${from}, which is not in node_modules`);
+    if (!existsSync(src)) fail(`vendor.json names ${from}, which is not in node_modules; run \`npm run setup\` (bash scripts/setup.sh) first`);
     const dst = join(dist, 'vendor', to);
     mkdirSync(dirname(dst), { recursive: true });
     cpSync(src, dst, { recursive: true });
