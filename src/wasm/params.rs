@@ -348,18 +348,14 @@ pub(crate) const MAX_BYTES: u32 = i32::MAX as u32;
 /// Copies a `Uint8Array` or `ArrayBuffer` into wasm memory after checking its length, so an
 /// oversize file gets a message rather than a trap in the allocator. `what` names the input.
 pub(crate) fn read_bytes(value: &JsValue, what: &str) -> Result<Vec<u8>, ArgError> {
-    let array = if let Some(a) = value.dyn_ref::<Uint8Array>() {
-        a.clone()
-    } else if let Some(b) = value.dyn_ref::<js_sys::ArrayBuffer>() {
-        Uint8Array::new(b)
-    } else {
+    if !(value.is_instance_of::<Uint8Array>() || value.is_instance_of::<js_sys::ArrayBuffer>()) {
         return Err(ArgError(format!(
             "{what} must be a Uint8Array or an ArrayBuffer, got {}",
             describe(value)
         )));
-    };
-    // `byteLength` as a number: `length()` is a u32 in the bindings and wraps above 4 GiB.
-    let byte_length = Reflect::get(&array, &"byteLength".into())
+    }
+    // `byteLength` as a number: the bindings' lengths are u32 and would wrap above 4 GiB.
+    let byte_length = Reflect::get(value, &"byteLength".into())
         .ok()
         .and_then(|v| v.as_f64())
         .unwrap_or(0.0);
@@ -369,6 +365,14 @@ pub(crate) fn read_bytes(value: &JsValue, what: &str) -> Result<Vec<u8>, ArgErro
             Compact(byte_length)
         )));
     }
+    if byte_length == 0.0 {
+        // Also a detached buffer, which `new Uint8Array(buffer)` would throw on.
+        return Ok(Vec::new());
+    }
+    let array = match value.dyn_ref::<js_sys::ArrayBuffer>() {
+        Some(buffer) => Uint8Array::new(buffer),
+        None => value.clone().unchecked_into(),
+    };
     // `copy_to` sizes its copy by `length()`, so the buffer must match it exactly.
     let len = array.length();
     if f64::from(len) != byte_length {
