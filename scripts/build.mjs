@@ -2,29 +2,145 @@
 //   dist/pkg/skinpath.js + skinpath_bg.wasm   wasm-pack --target web, release, then wasm-opt
 //   dist/*                                    the page sources from www/
 //   dist/vendor/…                             third-party modules listed in www/vendor.json
-// Run through `npm run build` so node_modules/.bin (binaryen's wasm-opt) is on PATH.
-import { execFileSync } from 'node:child_process';
-import { cpSync, mkdirSync, readFileSync, rmSync, existsSync, statSync } from 'node:fs';
-import { dirname, join, resolve } from 'node:path';
+// `npm run build` runs scripts/setup.sh first; run directly, a missing tool is named in one line.
+import { execFileSync, spawnSync } from 'node:child_process';
+import { appendFileSync, cpSync, mkdirSync, readFileSync, rmSync, existsSync, statSync } from 'node:fs';
+import { delimiter, dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const root = resolve(dirname(fileURLToPath(import.meta.url)), '..');
+// Where rustup and `cargo install` put wasm-pack and wasm-bindgen, often missing from PATH.
+if (process.env.HOME) process.env.PATH = `${join(process.env.HOME, '.cargo', 'bin')}${delimiter}${process.env.PATH ?? ''}`;
 const dist = join(root, 'dist');
 const pkg = join(dist, 'pkg');
 
+/** Stops the build with one line (no stack trace). */
+function fail(message) {
+  console.error(`build: ${message}`);
+  process.exit(1);
+}
+
 function run(cmd, args) {
   console.error(`build: ${cmd} ${args.join(' ')}`);
-  execFileSync(cmd, args, { cwd: root, stdio: 'inherit' });
+  try {
+    execFileSync(cmd, args, { cwd: root, stdio: 'inherit' });
+  } catch (error) {
+    const name = cmd.split(/[\\/]/).pop();
+    if (error.code === 'ENOENT') fail(`${name} is not installed; run \`npm run setup\` (bash scripts/setup.sh) first`);
+    fail(`${name} failed (${error.status === null ? `signal ${error.signal}` : `exit status ${error.status}`}); its output is above`);
+  }
+}
+
+// What each exported class's use after free() should tell the user to do instead.
+const AGAIN = { Mesh: 'load the file again', Segmentation: 'segment the mesh again' };
+
+/**
+ * Appends to the wasm-bindgen glue a guard for every exported class, so that
+ * - a method or getter of a freed object throws `Error("this Mesh was freed (free() was
+ *   called); load the file again")` instead of wasm-bindgen's "null pointer passed to rust";
+ * - free() twice does nothing the second time;
+ * - free() called while a method of the same object is running (from its onProgress
+ *   callback) waits until that method returns, instead of failing inside wasm;
+ * - calls nested through onProgress callbacks are refused beyond a small depth.
+ * It relies on wasm-bindgen's `__wbg_ptr` field and `free()` method, checked here so that a
+ * wasm-bindgen upgrade that renames them fails the build rather than the guard.
+ */
+function guardGlue(file) {
+  const glue = readFileSync(file, 'utf8');
+  const classes = [...glue.matchAll(/^export class (\w+) \{/gm)].map((m) => m[1]);
+  if (classes.length === 0 || !glue.includes('this.__wbg_ptr') || !/^\s+free\(\) \{/m.test(glue)) {
+    fail(`${file} does not look like wasm-bindgen 0.2 glue (exported classes with __wbg_ptr and free()); update guardGlue in scripts/build.mjs`);
+  }
+  const calls = classes.map((c) => `guardFreed(${c}, ${JSON.stringify(c)}, ${JSON.stringify(AGAIN[c] ?? `create a new ${c}`)});`);
+  appendFileSync(file, `
+// Added by scripts/build.mjs (guardGlue): use after free() names the problem, free() is
+// idempotent, free() from inside a running method of the same object is deferred, and calls
+// nest through onProgress callbacks at most MAX_NESTING deep (unbounded nesting would end in
+// a stack overflow thrown inside wasm, which leaves Rust borrows taken).
+const MAX_NESTING = 4;
+let nesting = 0;
+function guardFreed(cls, name, again) {
+  const proto = cls.prototype;
+  const running = new WeakMap();
+  const freeLater = new WeakSet();
+  const rawFree = proto.free;
+  const freed = () => new Error(\`this \${name} was freed (free() was called); \${again}\`);
+  const enter = (what) => {
+    if (nesting >= MAX_NESTING) {
+      throw new Error(\`\${name}.\${what}() was called from an onProgress callback \${nesting} calls deep; call it after the outer call returns\`);
+    }
+    nesting++;
+  };
+  const guardStatic = (f, what) => function (...args) {
+    enter(what);
+    try {
+      return f.apply(this, args);
+    } finally {
+      nesting--;
+    }
+  };
+  const guard = (f, what) => function (...args) {
+    if (!this.__wbg_ptr || freeLater.has(this)) throw freed();
+    enter(what);
+    running.set(this, (running.get(this) ?? 0) + 1);
+    try {
+      return f.apply(this, args);
+    } finally {
+      nesting--;
+      const n = running.get(this) - 1;
+      if (n > 0) running.set(this, n);
+      else {
+        running.delete(this);
+        if (freeLater.delete(this)) rawFree.call(this);
+      }
+    }
+  };
+  for (const key of Object.getOwnPropertyNames(proto)) {
+    if (key === 'constructor' || key === 'free' || key.startsWith('__')) continue;
+    const d = Object.getOwnPropertyDescriptor(proto, key);
+    if (typeof d.value === 'function') d.value = guard(d.value, key);
+    if (d.get) d.get = guard(d.get, key);
+    if (d.set) d.set = guard(d.set, key);
+    Object.defineProperty(proto, key, d);
+  }
+  for (const key of Object.getOwnPropertyNames(cls)) {
+    const d = Object.getOwnPropertyDescriptor(cls, key);
+    if (key.startsWith('__') || typeof d.value !== 'function') continue;
+    d.value = guardStatic(d.value, key);
+    Object.defineProperty(cls, key, d);
+  }
+  const free = function free() {
+    if (running.get(this)) freeLater.add(this);
+    else if (this.__wbg_ptr) rawFree.call(this);
+  };
+  proto.free = free;
+  if (typeof Symbol.dispose === 'symbol' && proto[Symbol.dispose]) proto[Symbol.dispose] = free;
+}
+${calls.join('\n')}
+`);
+  console.error(`build: guarded ${classes.join(', ')} against use after free()`);
+}
+
+/** Fails at once, in one line, when a tool the build needs is missing (a fresh clone). */
+function need(cmd) {
+  if (spawnSync(cmd, ['--version'], { stdio: 'ignore' }).error?.code === 'ENOENT') {
+    fail(`${cmd.split(/[\\/]/).pop()} is not installed; run \`npm run setup\` (bash scripts/setup.sh) first`);
+  }
 }
 
 function buildWasm() {
+  const localWasmOpt = join(root, 'node_modules', '.bin', 'wasm-opt');
+  const wasmOpt = existsSync(localWasmOpt) ? localWasmOpt : 'wasm-opt';
+  need('wasm-pack');
+  need('wasm-bindgen');
+  need(wasmOpt);
   run('wasm-pack', ['build', '--release', '--target', 'web', '--out-dir', pkg, '--out-name', 'skinpath',
     '--no-pack', '--', '--features', 'wasm']);
   const wasm = join(pkg, 'skinpath_bg.wasm');
   const before = statSync(wasm).size;
-  const wasmOpt = join(root, 'node_modules', '.bin', 'wasm-opt');
-  run(existsSync(wasmOpt) ? wasmOpt : 'wasm-opt', ['-O3', wasm, '-o', wasm]);
+  run(wasmOpt, ['-O3', wasm, '-o', wasm]);
   console.error(`build: wasm ${before} -> ${statSync(wasm).size} bytes after wasm-opt`);
+  guardGlue(join(pkg, 'skinpath.js'));
 }
 
 function copySite() {
@@ -35,7 +151,7 @@ function copySite() {
   const files = JSON.parse(readFileSync(manifest, 'utf8'));
   for (const [from, to] of Object.entries(files)) {
     const src = join(root, 'node_modules', from);
-    if (!existsSync(src)) throw new Error(`vendor.json names ${from}, which is not in node_modules`);
+    if (!existsSync(src)) fail(`vendor.json names ${from}, which is not in node_modules; run \`npm run setup\` (bash scripts/setup.sh) first`);
     const dst = join(dist, 'vendor', to);
     mkdirSync(dirname(dst), { recursive: true });
     cpSync(src, dst, { recursive: true });

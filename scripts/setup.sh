@@ -5,6 +5,8 @@
 # tests. When everything is present it takes well under a few seconds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# rustup's default install directory, often missing from PATH in a non-login shell.
+export PATH="$HOME/.cargo/bin:$PATH"
 
 WASM_PACK_VERSION=0.15.1
 # The CLI must match the `wasm-bindgen = "=X"` pin in Cargo.toml exactly.

@@ -31,6 +31,32 @@ pub fn cos(x: Real) -> Real {
     libm::cos(x)
 }
 
+/// A number as messages show it: short enough to read, exact enough to recognise.
+///
+/// Plain decimals from 1e-4 to 1e15 (`0.35`, `4`), otherwise the shortest round-trip
+/// scientific form (`1.7e308`, `2e-8`), and JavaScript's spelling of the special values
+/// (`NaN`, `Infinity`), so a 309-digit value is never echoed back to the user.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Compact(pub Real);
+
+impl std::fmt::Display for Compact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        const PLAIN: std::ops::Range<Real> = 1e-4..1e15;
+        let x = self.0;
+        if x.is_nan() {
+            f.write_str("NaN")
+        } else if x.is_infinite() {
+            f.write_str(if x > 0.0 { "Infinity" } else { "-Infinity" })
+        } else if x == 0.0 {
+            f.write_str("0")
+        } else if PLAIN.contains(&x.abs()) {
+            write!(f, "{x}")
+        } else {
+            write!(f, "{x:e}")
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -42,5 +68,26 @@ mod tests {
         assert!((angle_between(&x, &tiny) - 1e-9).abs() < 1e-20);
         assert!((angle_between(&x, &-x) - std::f64::consts::PI).abs() < 1e-15);
         assert!((angle_between(&x, &Vector3::y()) - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    }
+
+    #[test]
+    fn compact_numbers_stay_short_and_round_trip() {
+        let shown = |x: Real| Compact(x).to_string();
+        assert_eq!(shown(0.35), "0.35");
+        assert_eq!(shown(4.0), "4");
+        assert_eq!(shown(-0.0), "0");
+        assert_eq!(shown(1.7e308), "1.7e308");
+        assert_eq!(shown(-2e-8), "-2e-8");
+        assert_eq!(shown(123456789.25), "123456789.25");
+        assert_eq!(shown(Real::MAX), "1.7976931348623157e308");
+        assert_eq!(shown(Real::NAN), "NaN");
+        assert_eq!(shown(Real::NEG_INFINITY), "-Infinity");
+        for x in [1e-300, 3.0e-5, 0.1 + 0.2, 6.02214076e23, Real::MIN_POSITIVE] {
+            assert_eq!(
+                shown(x).parse::<Real>().unwrap(),
+                x,
+                "{x} does not round-trip"
+            );
+        }
     }
 }

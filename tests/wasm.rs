@@ -9,6 +9,10 @@ fn json(text: &str) -> JsValue {
     js_sys::JSON::parse(text).expect("test JSON is valid")
 }
 
+fn bytes(data: &[u8]) -> JsValue {
+    js_sys::Uint8Array::from(data).into()
+}
+
 fn message(error: wasm_bindgen::JsError) -> String {
     let value: JsValue = error.into();
     value.unchecked_into::<js_sys::Error>().message().into()
@@ -25,11 +29,11 @@ fn a_failed_read_throws_a_plain_message_and_the_module_keeps_working() {
         env!("CARGO_MANIFEST_DIR"),
         "/tests/fixtures/truncated.stl"
     ));
-    let Err(e) = Mesh::from_stl(truncated, None) else {
+    let Err(e) = Mesh::from_stl(bytes(truncated), None) else {
         panic!("truncated file accepted")
     };
     assert!(message(e).starts_with("truncated binary STL: the header says 12 triangles but only 7"));
-    let mesh = Mesh::from_stl(CUBE, None).unwrap();
+    let mesh = Mesh::from_stl(bytes(CUBE), None).unwrap();
     assert_eq!((mesh.triangle_count(), mesh.vertex_count()), (12, 8));
     assert_eq!(mesh.indices().len(), 36);
     assert_eq!(mesh.positions().len(), 24);
@@ -37,7 +41,7 @@ fn a_failed_read_throws_a_plain_message_and_the_module_keeps_working() {
 
 #[wasm_bindgen_test]
 fn segment_takes_camel_case_params_and_refuses_bad_ones() {
-    let mesh = Mesh::from_stl(CUBE, None).unwrap();
+    let mesh = Mesh::from_stl(bytes(CUBE), None).unwrap();
     let seg = mesh
         .segment(
             json(r#"{"angleThreshold": 0.35, "thetaMax": 1, "minAreaRatio": 0.1}"#),
@@ -48,7 +52,7 @@ fn segment_takes_camel_case_params_and_refuses_bad_ones() {
     assert_eq!(seg.threshold_kind(), "angle");
     assert_eq!(seg.patch_of().len(), 12);
     assert_eq!(seg.border_segments().len(), 12 * 6);
-    assert!(message(seg.patch_stl(6).unwrap_err()).contains("no patch 6"));
+    assert!(message(seg.patch_stl(6.into()).unwrap_err()).contains("no patch 6"));
     let bad = mesh.segment(
         json(r#"{"grind": {"indentationDepth": 1, "minPressureRatio": 1.5, "contactWidth": 3}}"#),
         None,
@@ -76,4 +80,64 @@ fn derive_threshold_and_memory_report_numbers() {
         "give exactly one of angleThreshold, curvatureThreshold, spray or grind (got none)"
     ));
     assert!(wasm_memory_bytes() >= 65536.0);
+}
+
+fn reader_message(error: skinpath::wasm::ArgError) -> String {
+    error.0
+}
+
+#[wasm_bindgen_test]
+fn the_param_reader_names_paths_types_and_unknown_keys_without_recursing() {
+    use skinpath::wasm::{ParamReader, MAX_DEPTH};
+    let value = json(r#"{"spacing": 2, "passes": 3, "wet": true, "tool": {"width": "8"}}"#);
+    let keys = ["spacing", "passes", "wet", "tool", "speed"];
+    let r = ParamReader::object(&value, "spray parameter", &keys).unwrap();
+    assert_eq!(r.number("spacing").unwrap(), 2.0);
+    assert_eq!(r.optional_number("speed").unwrap(), None);
+    assert_eq!(
+        reader_message(r.number("speed").err().unwrap()),
+        "spray parameter 'speed' is missing"
+    );
+    assert_eq!(r.optional_integer("passes", 1, 10).unwrap(), Some(3));
+    assert_eq!(
+        reader_message(r.optional_integer("passes", 5, 10).err().unwrap()),
+        "passes must be a whole number from 5 to 10, got 3"
+    );
+    assert_eq!(r.optional_bool("wet").unwrap(), Some(true));
+    assert_eq!(
+        reader_message(r.optional_bool("spacing").err().unwrap()),
+        "spacing must be true or false, got the number 2"
+    );
+    let tool = r.optional_object("tool", &["width"]).unwrap().unwrap();
+    assert_eq!(
+        reader_message(tool.number("width").err().unwrap()),
+        "tool.width must be a number, got the string \"8\""
+    );
+    assert_eq!(
+        reader_message(
+            ParamReader::object(&value, "spray parameter", &["spacing"])
+                .err()
+                .unwrap()
+        ),
+        "unknown spray parameter 'passes'"
+    );
+    assert_eq!(
+        reader_message(
+            ParamReader::object(&JsValue::NULL, "spray parameter", &keys)
+                .err()
+                .unwrap()
+        ),
+        "spray parameters must be an object, got null"
+    );
+    // A cycle is read only as deep as the schema asks, and never past MAX_DEPTH.
+    let cyclic = json(r#"{"next": null}"#);
+    js_sys::Reflect::set(&cyclic, &"next".into(), &cyclic).unwrap();
+    let mut r = ParamReader::object(&cyclic, "drilling parameter", &["next"]).unwrap();
+    for _ in 0..MAX_DEPTH {
+        r = r.optional_object("next", &["next"]).unwrap().unwrap();
+    }
+    assert_eq!(
+        reader_message(r.optional_object("next", &["next"]).err().unwrap()),
+        format!("next.next.next.next.next is nested more than {MAX_DEPTH} objects deep")
+    );
 }

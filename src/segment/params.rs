@@ -5,7 +5,7 @@
 //! grinding (Hertz contact) `κ ≤ 2·d·(1 − δ²) / Lc²` (Eq. 4); spraying
 //! `α_th ≤ arccos((Qd − ΔQd) / Qmin)` (Eq. 9).
 
-use crate::math::{acos_clamped, Real};
+use crate::math::{acos_clamped, Compact, Real};
 use std::f64::consts::PI;
 
 /// Smallest angle (θmax, angle threshold) accepted, radians.
@@ -20,26 +20,11 @@ pub const MIN_ANGLE_RAD: Real = 1e-6;
 /// The range of θmax and of angle thresholds in words; keep it in step with [`MIN_ANGLE_RAD`].
 const TOO_SMALL_ANGLE: &str = "at least 1e-6 radians (allowed: 1e-6 to π; smaller angles are below the precision of face normals from f32 coordinates)";
 
-/// A number as a person reads it in a message: plain for ordinary magnitudes, with an
-/// exponent otherwise (`{}` alone would spell 1e300 with 301 digits).
-struct Shown(Real);
-
-impl std::fmt::Display for Shown {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let magnitude = self.0.abs();
-        if magnitude == 0.0 || !magnitude.is_finite() || (1e-4..1e15).contains(&magnitude) {
-            write!(f, "{}", self.0)
-        } else {
-            write!(f, "{:e}", self.0)
-        }
-    }
-}
-
 /// Why segmentation parameters were refused. Messages name the parameter as the page shows it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
     /// A number is NaN or infinite.
-    #[error("{name} must be a finite number, got {}", Shown(*.value))]
+    #[error("{name} must be a finite number, got {}", Compact(*value))]
     NotFinite {
         /// Parameter name.
         name: &'static str,
@@ -47,7 +32,7 @@ pub enum ParamError {
         value: Real,
     },
     /// A number is outside its allowed range.
-    #[error("{name} must be {range}, got {}", Shown(*.value))]
+    #[error("{name} must be {range}, got {}", Compact(*value))]
     OutOfRange {
         /// Parameter name.
         name: &'static str,
@@ -67,7 +52,7 @@ pub enum ParamError {
     ZeroThreshold,
     /// A threshold derived from process parameters is not a usable number (zero, too small,
     /// or infinite after overflow or underflow).
-    #[error("the {what} derived from {from} is {}, but it must be {range}", Shown(*.value))]
+    #[error("the {what} derived from {from} is {}, but it must be {range}", Compact(*value))]
     DerivedOutOfRange {
         /// What was derived, with its unit.
         what: &'static str,
@@ -240,9 +225,9 @@ pub fn spray_angle_threshold(p: &SprayParams) -> Result<Real, ParamError> {
             what: "angle threshold (rad)",
             from: format!(
                 "spray (meanThickness {}, allowedDeviation {}, minThickness {})",
-                Shown(qd),
-                Shown(dq),
-                Shown(qmin)
+                Compact(qd),
+                Compact(dq),
+                Compact(qmin)
             ),
             value: alpha,
             range: TOO_SMALL_ANGLE,
@@ -271,9 +256,9 @@ pub fn grind_curvature_threshold(p: &GrindParams) -> Result<Real, ParamError> {
             what: "curvature threshold (1 / mesh unit)",
             from: format!(
                 "grind (indentationDepth {}, minPressureRatio {}, contactWidth {})",
-                Shown(d),
-                Shown(delta),
-                Shown(lc)
+                Compact(d),
+                Compact(delta),
+                Compact(lc)
             ),
             value: kappa,
             range: "a finite number greater than 0",

@@ -88,7 +88,7 @@ pub enum ToolPathError {
         what: &'static str,
     },
     /// The speed is not finite and positive.
-    #[error("the tool-path speed must be finite and positive, got {0}")]
+    #[error("the tool-path speed must be finite and positive, got {}", crate::math::Compact(*.0))]
     BadSpeed(Real),
     /// The tool path has no poses: there is nothing to export.
     #[error("the tool path has no poses")]

@@ -1,5 +1,6 @@
 //! `Mesh`: an imported STL held on the Rust side (JavaScript must call `free()`).
 
+use super::params::{read_bytes, read_callback};
 use super::{progress_fn, Segmentation};
 use crate::mesh::{import_stl, ImportedMesh};
 use std::rc::Rc;
@@ -13,15 +14,18 @@ pub struct Mesh {
 
 #[wasm_bindgen]
 impl Mesh {
-    /// Reads binary or ASCII STL bytes; `onProgress(stage, fraction)` is optional.
-    /// Throws an `Error` naming what is wrong with the file.
+    /// Reads binary or ASCII STL bytes (a `Uint8Array` or an `ArrayBuffer`, at most
+    /// 2^31 − 1 bytes); `onProgress(stage, fraction)` is optional.
+    /// Throws an `Error` naming what is wrong with the file or the arguments.
     #[wasm_bindgen(js_name = fromStl)]
     pub fn from_stl(
-        bytes: &[u8],
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array | ArrayBuffer")] bytes: JsValue,
         #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
-        on_progress: Option<js_sys::Function>,
+        on_progress: Option<JsValue>,
     ) -> Result<Mesh, JsError> {
-        let imported = import_stl(bytes, &mut progress_fn(on_progress))?;
+        let bytes = read_bytes(&bytes, "the STL file")?;
+        let on_progress = read_callback(on_progress, "onProgress")?;
+        let imported = import_stl(&bytes, &mut progress_fn(on_progress))?;
         Ok(Mesh {
             inner: Rc::new(imported),
         })
@@ -61,9 +65,11 @@ impl Mesh {
         &self,
         #[wasm_bindgen(unchecked_param_type = "SegmentParams")] params: JsValue,
         #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
-        on_progress: Option<js_sys::Function>,
+        on_progress: Option<JsValue>,
     ) -> Result<Segmentation, JsError> {
-        let params = super::segment::params_from_js(params)?;
+        // All JavaScript input is read (through imports that catch exceptions) before any work.
+        let params = super::segment::params_from_js(&params)?;
+        let on_progress = read_callback(on_progress, "onProgress")?;
         Segmentation::new(self.inner.clone(), &params, on_progress)
     }
 }

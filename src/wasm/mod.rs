@@ -3,9 +3,11 @@
 //! JavaScript as an `Error` whose message is the core's; a panic is a bug.
 
 mod mesh;
+mod params;
 mod segment;
 
 pub use mesh::Mesh;
+pub use params::{ArgError, ParamReader, MAX_DEPTH};
 pub use segment::Segmentation;
 
 use wasm_bindgen::prelude::*;
@@ -63,13 +65,14 @@ pub fn wasm_memory_bytes() -> f64 {
 pub fn derive_threshold(
     #[wasm_bindgen(unchecked_param_type = "SegmentParams")] params: JsValue,
 ) -> Result<JsValue, JsError> {
-    let params = segment::params_from_js(params)?;
+    let params = segment::params_from_js(&params)?;
     let threshold = params.validate()?;
     Ok(serde_wasm_bindgen::to_value(&threshold)?)
 }
 
 /// Calls an optional JavaScript `(stage, fraction) => void`; what it throws is ignored, as a
-/// progress display must not abort the work it reports on.
+/// progress display must not abort the work it reports on. `call2` is imported with `catch`,
+/// so an exception never unwinds through the Rust frames (and borrows) below it.
 pub(crate) fn progress_fn(callback: Option<js_sys::Function>) -> impl FnMut(&str, f64) {
     move |stage: &str, fraction: f64| {
         if let Some(f) = &callback {

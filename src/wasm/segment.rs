@@ -1,15 +1,76 @@
 //! `Segmentation`: the patches of one `Mesh.segment` call (JavaScript must call `free()`).
 
+use super::params::{describe, integer, ParamReader};
 use super::progress_fn;
+use crate::math::Compact;
 use crate::mesh::ImportedMesh;
-use crate::segment::{segment_with_progress, GrowthThreshold, ParamsSpec, SegmentParams};
+use crate::segment::{
+    segment_with_progress, Checked, GrindParams, GrowthThreshold, ParamsSpec, SeedRule,
+    SegmentParams, SprayParams,
+};
 use std::rc::Rc;
 use wasm_bindgen::prelude::*;
 
-/// Parses `{ angleThreshold | curvatureThreshold | spray | grind, thetaMax, minAreaRatio }`.
-pub(crate) fn params_from_js(params: JsValue) -> Result<SegmentParams, JsError> {
-    let spec: ParamsSpec = serde_wasm_bindgen::from_value(params)
-        .map_err(|e| JsError::new(&format!("invalid segmentation parameters: {e}")))?;
+const TOP_KEYS: [&str; 7] = [
+    "angleThreshold",
+    "curvatureThreshold",
+    "spray",
+    "grind",
+    "thetaMax",
+    "minAreaRatio",
+    "seedRule",
+];
+const SPRAY_KEYS: [&str; 3] = ["meanThickness", "allowedDeviation", "minThickness"];
+const GRIND_KEYS: [&str; 3] = ["indentationDepth", "minPressureRatio", "contactWidth"];
+
+/// Reads `{ angleThreshold | curvatureThreshold | spray | grind, thetaMax, minAreaRatio,
+/// seedRule }` with [`ParamReader`] (only these keys, no recursion, nothing coerced), then
+/// lets the core check ranges and the single criterion.
+pub(crate) fn params_from_js(params: &JsValue) -> Result<SegmentParams, JsError> {
+    let r = ParamReader::object(params, "segmentation parameter", &TOP_KEYS)?;
+    let angle_threshold = r.optional_number("angleThreshold")?;
+    let curvature_threshold = r.optional_number("curvatureThreshold")?;
+    let spray = match r.optional_object("spray", &SPRAY_KEYS)? {
+        Some(p) => {
+            let value = SprayParams {
+                mean_thickness: p.number("meanThickness")?,
+                allowed_deviation: p.number("allowedDeviation")?,
+                min_thickness: p.number("minThickness")?,
+            };
+            Some(Checked::from(value))
+        }
+        None => None,
+    };
+    let grind = match r.optional_object("grind", &GRIND_KEYS)? {
+        Some(p) => {
+            let value = GrindParams {
+                indentation_depth: p.number("indentationDepth")?,
+                min_pressure_ratio: p.number("minPressureRatio")?,
+                contact_width: p.number("contactWidth")?,
+            };
+            Some(Checked::from(value))
+        }
+        None => None,
+    };
+    let theta_max = r.optional_number("thetaMax")?;
+    let min_area_ratio = r.optional_number("minAreaRatio")?;
+    let seed_rule = r
+        .optional_choice("seedRule", &["lowestIndex", "flattest", "largestArea"])?
+        .map(|rule| match rule {
+            "lowestIndex" => SeedRule::LowestIndex,
+            "largestArea" => SeedRule::LargestArea,
+            _ => SeedRule::Flattest,
+        });
+    let spec = ParamsSpec {
+        angle_threshold,
+        curvature_threshold,
+        spray,
+        grind,
+        theta_max,
+        min_area_ratio,
+        seed_rule,
+        unknown: Default::default(),
+    };
     Ok(SegmentParams::try_from(spec)?)
 }
 
@@ -87,16 +148,34 @@ impl Segmentation {
             .border_patches(&self.mesh.mesh, &self.mesh.adjacency)
     }
 
-    /// Binary STL of patch `id`. Throws if there is no such patch.
+    /// Binary STL of patch `id`, a whole number from 0 to `patchCount − 1`; anything else
+    /// (NaN, 0.5, a string, −1, 2^32) throws an `Error` naming it.
     #[wasm_bindgen(js_name = patchStl)]
-    pub fn patch_stl(&self, id: u32) -> Result<Vec<u8>, JsError> {
-        self.inner
-            .patch_stl(&self.mesh.mesh, id as usize)
-            .ok_or_else(|| {
-                JsError::new(&format!(
-                    "no patch {id}: this segmentation has {} patches",
-                    self.inner.patches.len()
-                ))
-            })
+    pub fn patch_stl(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "number")] id: JsValue,
+    ) -> Result<Vec<u8>, JsError> {
+        let count = self.inner.patches.len();
+        let no_patch = |id: &dyn std::fmt::Display| {
+            let ids = match count {
+                0 => "this segmentation has no patches".to_string(),
+                1 => "this segmentation has 1 patch, id 0".to_string(),
+                n => format!("this segmentation has {n} patches, ids 0 to {}", n - 1),
+            };
+            JsError::new(&format!("no patch {id}: {ids}"))
+        };
+        match id.as_f64() {
+            // A whole number out of range: say which ids exist.
+            Some(x) if x.fract() == 0.0 && !(0.0..count as f64).contains(&x) => {
+                Err(no_patch(&Compact(x)))
+            }
+            _ if count == 0 => Err(no_patch(&describe(&id))),
+            _ => {
+                let id = integer(&id, "patch id", 0, count as i64 - 1)? as usize;
+                self.inner
+                    .patch_stl(&self.mesh.mesh, id)
+                    .ok_or_else(|| no_patch(&id))
+            }
+        }
     }
 }

@@ -1,0 +1,408 @@
+//! Reading what JavaScript passes in (parameter objects, ids, byte arrays) without recursion,
+//! without coercion and without letting a JavaScript exception unwind through Rust.
+//!
+//! The release build aborts on panic and runs no Rust code while a JavaScript exception
+//! unwinds through wasm frames: a borrow of `self` taken by the generated shim and the wasm
+//! shadow stack would both stay taken. So every read here goes through an import declared
+//! with `catch` (`Reflect.get`, `Reflect.ownKeys`, `Array.isArray`) or through a
+//! wasm-bindgen intrinsic that cannot throw (`typeof` checks), and a getter or Proxy trap that
+//! throws becomes an ordinary `Err` naming the parameter.
+//!
+//! Parameter objects are read by [`ParamReader`]: only the keys the caller asks for, each
+//! type-checked, nested objects only as deep as the caller's schema and at most
+//! [`MAX_DEPTH`]; every other own key is refused by name without reading its value, so a
+//! cycle or a 5,000-deep object costs nothing.
+
+use crate::math::Compact;
+use js_sys::{JsString, Reflect, Uint8Array};
+use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
+
+/// Deepest parameter object a schema may read (top level is depth 0).
+pub const MAX_DEPTH: usize = 4;
+/// Longest string a parameter may hold, in UTF-16 units (names, choices).
+const MAX_STRING: u32 = 256;
+/// Characters of a foreign string or exception message quoted back in a message.
+const QUOTE_CHARS: u32 = 40;
+
+#[wasm_bindgen]
+extern "C" {
+    /// `Array.isArray`, which throws for a revoked Proxy: hence `catch`.
+    #[wasm_bindgen(catch, js_namespace = Array, js_name = isArray)]
+    fn is_array(value: &JsValue) -> Result<bool, JsValue>;
+}
+
+/// A JavaScript argument was refused; the message names it, what was given and what is allowed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct ArgError(
+    /// The message, as JavaScript will see it.
+    pub String,
+);
+
+/// How a value is named in a message: `null`, `the string "0.35"`, `an array`, `a Blob`.
+pub(crate) fn describe(value: &JsValue) -> String {
+    if value.is_undefined() {
+        return "undefined".into();
+    }
+    if value.is_null() {
+        return "null".into();
+    }
+    if let Some(b) = value.as_bool() {
+        return format!("{b}");
+    }
+    if let Some(x) = value.as_f64() {
+        return format!("the number {}", Compact(x));
+    }
+    if value.is_string() {
+        return format!("the string {}", quote(value.unchecked_ref::<JsString>()));
+    }
+    if value.is_bigint() {
+        return "a BigInt".into();
+    }
+    if value.is_symbol() {
+        return "a symbol".into();
+    }
+    if value.is_function() {
+        return "a function".into();
+    }
+    if is_array(value).unwrap_or(false) {
+        return "an array".into();
+    }
+    match constructor_name(value) {
+        Some(name) if name != "Object" => {
+            let article = if name.starts_with(['A', 'E', 'I', 'O', 'U']) {
+                "an"
+            } else {
+                "a"
+            };
+            format!("{article} {name}")
+        }
+        _ => "an object".into(),
+    }
+}
+
+/// `value.constructor.name` when it can be read without an exception, else `None`.
+fn constructor_name(value: &JsValue) -> Option<String> {
+    let constructor = Reflect::get(value, &"constructor".into()).ok()?;
+    if !constructor.is_function() {
+        return None;
+    }
+    let name = Reflect::get(&constructor, &"name".into()).ok()?;
+    let name = name.dyn_ref::<JsString>()?;
+    (name.length() > 0 && name.length() <= QUOTE_CHARS).then(|| String::from(name))
+}
+
+/// A foreign string in quotes, cut to [`QUOTE_CHARS`] (the whole string never enters wasm).
+fn quote(s: &JsString) -> String {
+    if s.length() <= QUOTE_CHARS {
+        format!("{:?}", String::from(s))
+    } else {
+        format!("{:?}…", String::from(s.slice(0, QUOTE_CHARS)))
+    }
+}
+
+/// What a caught exception says: its `message` if it has one, else how it looks.
+pub(crate) fn exception_message(exception: &JsValue) -> String {
+    let message = if exception.is_object() {
+        Reflect::get(exception, &"message".into()).unwrap_or(JsValue::UNDEFINED)
+    } else {
+        exception.clone()
+    };
+    match message.dyn_ref::<JsString>() {
+        Some(s) if s.length() <= 4 * QUOTE_CHARS => String::from(s),
+        Some(s) => format!("{}…", String::from(s.slice(0, 4 * QUOTE_CHARS))),
+        None => describe(exception),
+    }
+}
+
+/// Reads one parameter object whose keys are declared up front: any other own string key is
+/// refused by name at once (before any value is read, so a typo is reported as such), then
+/// each declared key is read and type-checked on request. Absent and `undefined` keys are
+/// "not given"; `null` is a wrong type. Symbol keys are ignored.
+///
+/// ```ignore
+/// let mut r = ParamReader::object(&value, "spray parameter", &["spacing", "speed", "tool"])?;
+/// let spacing = r.number("spacing")?;            // required: "… 'spacing' is missing"
+/// let speed = r.optional_number("speed")?;       // Option<f64>
+/// if let Some(mut tool) = r.optional_object("tool", &["width"])? {
+///     let width = tool.number("width")?;         // messages say "tool.width"
+/// }
+/// // {spacng: 1} was refused by `object`: "unknown spray parameter 'spacng'"
+/// ```
+pub struct ParamReader {
+    object: JsValue,
+    /// Singular noun for messages, e.g. "segmentation parameter".
+    noun: &'static str,
+    /// Dotted path of this object inside the top-level one ("" or "spray.").
+    prefix: String,
+    depth: usize,
+}
+
+impl ParamReader {
+    /// Starts reading `value`, which must be an object (not null, an array or a function)
+    /// whose own string keys are all in `keys`. `noun` is singular: "segmentation parameter"
+    /// gives "segmentation parameters must be an object, got null" and "unknown segmentation
+    /// parameter 'x'".
+    pub fn object(
+        value: &JsValue,
+        noun: &'static str,
+        keys: &[&'static str],
+    ) -> Result<ParamReader, ArgError> {
+        let reader = ParamReader {
+            object: value.clone(),
+            noun,
+            prefix: String::new(),
+            depth: 0,
+        };
+        reader.check(&format!("{noun}s"), keys)?;
+        Ok(reader)
+    }
+
+    /// Checks that `self.object` is an object and refuses own string keys not in `keys`,
+    /// without reading their values. `what` names the object in messages.
+    fn check(&self, what: &str, keys: &[&'static str]) -> Result<(), ArgError> {
+        let value = &self.object;
+        if !value.is_object() || is_array(value).unwrap_or(false) {
+            return Err(ArgError(format!(
+                "{what} must be an object, got {}",
+                describe(value)
+            )));
+        }
+        let own = Reflect::own_keys(value).map_err(|e| {
+            ArgError(format!(
+                "listing the keys of {what} threw: {}",
+                exception_message(&e)
+            ))
+        })?;
+        for i in 0..own.length() {
+            let key = own.get(i);
+            let Some(key) = key.dyn_ref::<JsString>() else {
+                continue;
+            };
+            let known = key.length() <= MAX_STRING && {
+                let key = String::from(key);
+                keys.iter().any(|k| *k == key)
+            };
+            if !known {
+                let shown = if key.length() <= QUOTE_CHARS {
+                    String::from(key)
+                } else {
+                    format!("{}…", String::from(key.slice(0, QUOTE_CHARS)))
+                };
+                return Err(ArgError(format!(
+                    "unknown {} '{}'",
+                    self.noun,
+                    self.name(&shown)
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The dotted name of `key` as messages show it.
+    fn name(&self, key: &str) -> String {
+        format!("{}{key}", self.prefix)
+    }
+
+    /// `Reflect.get(object, key)`; `None` when absent or `undefined`.
+    fn get(&self, key: &'static str) -> Result<Option<JsValue>, ArgError> {
+        match Reflect::get(&self.object, &JsValue::from_str(key)) {
+            Ok(v) if v.is_undefined() => Ok(None),
+            Ok(v) => Ok(Some(v)),
+            Err(e) => Err(ArgError(format!(
+                "reading {} '{}' threw: {}",
+                self.noun,
+                self.name(key),
+                exception_message(&e)
+            ))),
+        }
+    }
+
+    fn missing(&self, key: &str) -> ArgError {
+        ArgError(format!("{} '{}' is missing", self.noun, self.name(key)))
+    }
+
+    fn wrong_type(&self, key: &str, wanted: &str, value: &JsValue) -> ArgError {
+        ArgError(format!(
+            "{} must be {wanted}, got {}",
+            self.name(key),
+            describe(value)
+        ))
+    }
+
+    /// A number (NaN and ±Infinity pass: the core refuses them with the range it allows).
+    pub fn optional_number(&self, key: &'static str) -> Result<Option<f64>, ArgError> {
+        match self.get(key)? {
+            None => Ok(None),
+            Some(v) => match v.as_f64() {
+                Some(x) => Ok(Some(x)),
+                None => Err(self.wrong_type(key, "a number", &v)),
+            },
+        }
+    }
+
+    /// A required number.
+    pub fn number(&self, key: &'static str) -> Result<f64, ArgError> {
+        self.optional_number(key)?.ok_or_else(|| self.missing(key))
+    }
+
+    /// A whole number in `min..=max` (counts, ids), refused with the range otherwise.
+    pub fn optional_integer(
+        &self,
+        key: &'static str,
+        min: i64,
+        max: i64,
+    ) -> Result<Option<i64>, ArgError> {
+        match self.get(key)? {
+            None => Ok(None),
+            Some(v) => integer(&v, &self.name(key), min, max).map(Some),
+        }
+    }
+
+    /// `true` or `false`.
+    pub fn optional_bool(&self, key: &'static str) -> Result<Option<bool>, ArgError> {
+        match self.get(key)? {
+            None => Ok(None),
+            Some(v) => match v.as_bool() {
+                Some(b) => Ok(Some(b)),
+                None => Err(self.wrong_type(key, "true or false", &v)),
+            },
+        }
+    }
+
+    /// One of `choices` (exact spelling); returns the matching entry of `choices`.
+    pub fn optional_choice(
+        &self,
+        key: &'static str,
+        choices: &[&'static str],
+    ) -> Result<Option<&'static str>, ArgError> {
+        let Some(v) = self.get(key)? else {
+            return Ok(None);
+        };
+        let found = v
+            .dyn_ref::<JsString>()
+            .filter(|s| s.length() <= MAX_STRING)
+            .map(String::from)
+            .and_then(|s| choices.iter().copied().find(|c| *c == s));
+        found.map(Some).ok_or_else(|| {
+            let listed: Vec<String> = choices.iter().map(|c| format!("{c:?}")).collect();
+            self.wrong_type(key, &format!("one of {}", listed.join(", ")), &v)
+        })
+    }
+
+    /// A nested parameter object with its own declared `keys`, read with its own reader
+    /// (messages say "key.inner"). Refused beyond [`MAX_DEPTH`], so a schema cannot recurse
+    /// without bound.
+    pub fn optional_object(
+        &self,
+        key: &'static str,
+        keys: &[&'static str],
+    ) -> Result<Option<ParamReader>, ArgError> {
+        let Some(v) = self.get(key)? else {
+            return Ok(None);
+        };
+        let name = self.name(key);
+        if self.depth >= MAX_DEPTH {
+            return Err(ArgError(format!(
+                "{name} is nested more than {MAX_DEPTH} objects deep"
+            )));
+        }
+        let reader = ParamReader {
+            object: v,
+            noun: self.noun,
+            prefix: format!("{name}."),
+            depth: self.depth + 1,
+        };
+        reader.check(&name, keys)?;
+        Ok(Some(reader))
+    }
+}
+
+/// A whole number in `min..=max`, or an error naming `name`, the value and the range.
+/// `min..=max` must lie within ±2^53 so every whole number in it is exact.
+pub(crate) fn integer(value: &JsValue, name: &str, min: i64, max: i64) -> Result<i64, ArgError> {
+    let range = || format!("from {min} to {max}");
+    let Some(x) = value.as_f64() else {
+        return Err(ArgError(format!(
+            "{name} must be a whole number {}, got {}",
+            range(),
+            describe(value)
+        )));
+    };
+    // Exact for |x| < 2^53, and min/max lie within that, so the cast below is exact too.
+    if x.fract() != 0.0 || !(min as f64..=max as f64).contains(&x) {
+        return Err(ArgError(format!(
+            "{name} must be a whole number {}, got {}",
+            range(),
+            Compact(x)
+        )));
+    }
+    Ok(x as i64)
+}
+
+/// Largest byte array the engine takes. A single wasm32 allocation cannot exceed
+/// `isize::MAX` (2^31 − 1) bytes; copying more traps, so it is refused before any copy.
+pub(crate) const MAX_BYTES: u32 = i32::MAX as u32;
+
+/// Copies a `Uint8Array` or `ArrayBuffer` into wasm memory after checking its length, so an
+/// oversize file gets a message rather than a trap in the allocator. `what` names the input.
+pub(crate) fn read_bytes(value: &JsValue, what: &str) -> Result<Vec<u8>, ArgError> {
+    if !(value.is_instance_of::<Uint8Array>() || value.is_instance_of::<js_sys::ArrayBuffer>()) {
+        return Err(ArgError(format!(
+            "{what} must be a Uint8Array or an ArrayBuffer, got {}",
+            describe(value)
+        )));
+    }
+    // `byteLength` as a number: the bindings' lengths are u32 and would wrap above 4 GiB.
+    let byte_length = Reflect::get(value, &"byteLength".into())
+        .ok()
+        .and_then(|v| v.as_f64())
+        .unwrap_or(0.0);
+    if byte_length > MAX_BYTES as f64 {
+        return Err(ArgError(format!(
+            "the file is {} bytes; the engine can hold at most {MAX_BYTES} bytes (2 GiB − 1)",
+            Compact(byte_length)
+        )));
+    }
+    if byte_length == 0.0 {
+        // Also a detached buffer, which `new Uint8Array(buffer)` would throw on.
+        return Ok(Vec::new());
+    }
+    let array = match value.dyn_ref::<js_sys::ArrayBuffer>() {
+        Some(buffer) => Uint8Array::new(buffer),
+        None => value.clone().unchecked_into(),
+    };
+    // `copy_to` sizes its copy by `length()`, so the buffer must match it exactly.
+    let len = array.length();
+    if f64::from(len) != byte_length {
+        return Err(ArgError(format!(
+            "{what} reports {len} elements but {} bytes; pass a plain Uint8Array",
+            Compact(byte_length)
+        )));
+    }
+    let mut bytes = Vec::new();
+    if bytes.try_reserve_exact(len as usize).is_err() {
+        return Err(ArgError(format!(
+            "the file is {len} bytes and there is not enough memory left to copy it"
+        )));
+    }
+    bytes.resize(len as usize, 0);
+    array.copy_to(&mut bytes);
+    Ok(bytes)
+}
+
+/// An optional `(stage, fraction) => void` callback: a function, or `undefined`/`null`.
+pub(crate) fn read_callback(
+    value: Option<JsValue>,
+    name: &str,
+) -> Result<Option<js_sys::Function>, ArgError> {
+    match value {
+        None => Ok(None),
+        Some(v) if v.is_function() => Ok(Some(v.unchecked_into())),
+        Some(v) => Err(ArgError(format!(
+            "{name} must be a function, got {}",
+            describe(&v)
+        ))),
+    }
+}
