@@ -443,7 +443,7 @@ mod tests {
 
     #[test]
     fn derived_thresholds_that_overflow_or_underflow_are_refused() {
-        for (d, lc, value) in [(1e-300, 1e150, "0"), (1e300, 1e-300, "inf")] {
+        for (d, lc, value) in [(1e-300, 1e150, "0"), (1e300, 1e-300, "Infinity")] {
             // The message spells huge and tiny inputs with an exponent.
             let spelled =
                 format!("indentationDepth {d:e}, minPressureRatio 0.5, contactWidth {lc:e}");
