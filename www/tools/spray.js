@@ -482,16 +482,16 @@ class SprayTool {
 
     const q = result.quality;
     const rows = [
-      ['Mean thickness', (x) => `${num(x.mean * um, 3)} µm`],
-      ['Std. deviation E', (x) => `${num(x.stdDev * um, 3)} µm`],
-      ['Error δ', (x) => `${num(x.error * 100, 3)} %`],
+      ['Mean thickness', (x) => `${num(x.mean * um, 3)} µm`, 'Area-weighted mean of the predicted dry-film thickness'],
+      ['Std. deviation E', (x) => `${num(x.stdDev * um, 3)} µm`, 'Area-weighted standard deviation of the thickness'],
+      ['Error δ', (x) => `${num(x.error * 100, 3)} %`, 'Largest |thickness − mean| / mean'],
       ['Thinnest', (x) => `${num(x.min * um, 3)} µm`],
       ['Thickest', (x) => `${num(x.max * um, 3)} µm`],
       ['Area', (x) => `${num(x.area, 3)} ${shell.unitOf.area()}`],
     ];
-    $('spray-quality').tBodies[0].replaceChildren(...rows.map(([label, f]) => {
+    $('spray-quality').tBodies[0].replaceChildren(...rows.map(([label, f, title]) => {
       const row = document.createElement('tr');
-      row.append(Object.assign(document.createElement('th'), { scope: 'row', textContent: label }),
+      row.append(Object.assign(document.createElement('th'), { scope: 'row', textContent: label, title: title ?? '' }),
         Object.assign(document.createElement('td'), { textContent: f(q.interior) }),
         Object.assign(document.createElement('td'), { textContent: f(q.whole) }));
       return row;
