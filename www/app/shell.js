@@ -18,8 +18,12 @@
 //     onUnitsChanged?({ unitChanged })  units may have changed: re-render numbers
 //     onSettingsChanged?()            settings replaced from the URL hash
 //     onActivate?() / onDeactivate?() its tab was opened / left (layers may stay or hide)
+//     onEngineReady?()                the wasm engine has started (live checks may run now)
 //     onEngineLost?()                 the worker was replaced (Cancel, failure): drop worker state
 //   }
+// Adding a tool: tools/<id>.js exporting such an object, `shell.addTool(…)` in main.js, and
+// for engine work worker/<id>.js registered in worker/worker.js (TOOLS).
+// Hooks run in registration order; a hook that throws is a bug and shows in the console.
 // A tool talks to its worker module through shell.enqueue + shell.engine.request('<id>.<op>'),
 // draws through shell.viewer.setLayer('<id>.<name>', …) and reads shell.state (read-only).
 import { Engine, CancelledError } from './engine.js';
@@ -562,6 +566,13 @@ class Shell {
     document.body.dataset.segmentations = String(Number(document.body.dataset.segmentations ?? 0) + 1);
     this.#notify('onSegmentation', segmentation);
     this.#notify('onSelectionChanged', null);
+  }
+
+  /** Shows the engine's memory after a tool's request (result.memoryBytes). */
+  showMemory(bytes) {
+    if (!bytes) return;
+    this.state.memoryBytes = bytes;
+    $('stat-memory').textContent = bytesText(bytes);
   }
 
   patch(id) {

@@ -348,6 +348,7 @@ class SprayTool {
         throw new Error(`The spray plan failed: ${error.message.replace(/\.?$/, '.')} ${this.#plan ? 'The plan on screen is unchanged.' : ''}`.trim());
       }
       progress('Drawing', null);
+      shell.showMemory(result.memoryBytes);
       this.#plan = { result, request, unit: shell.state.settings.unit, model: shell.state.model.name };
       this.#drawLayers();
       this.#renderResults();
