@@ -337,7 +337,7 @@ fn outermost_passes_lie_within_half_a_spacing_of_the_boundary() {
             hi < 300.0 && hi >= 300.0 - b / 2.0 - 1e-9,
             "b {b}: last pass at {hi}"
         );
-        assert_eq!(plan.pass_count, (300.0 / b as f64).ceil() as usize);
+        assert_eq!(plan.pass_count, (300.0 / b).ceil() as usize);
         // Gun axis −n and standoff h on the passes.
         for q in plan.path.poses.iter().filter(|q| q.kind == PoseKind::Pass) {
             assert_near!(q.position.z, H, 1e-4);
@@ -446,7 +446,8 @@ fn impossible_limits_return_the_closest_spacing_and_say_so() {
 #[test]
 fn bad_parameters_are_refused_by_name() {
     let m = plate(300.0, 300.0, 3, 3);
-    let cases: Vec<(&str, Box<dyn Fn(&mut SprayParams)>)> = vec![
+    type Change = Box<dyn Fn(&mut SprayParams)>;
+    let cases: Vec<(&str, Change)> = vec![
         ("spacing", Box::new(|p| p.spacing = -1.0)),
         ("spacing", Box::new(|p| p.spacing = f64::NAN)),
         ("standoff", Box::new(|p| p.standoff = 0.0)),

@@ -51,6 +51,16 @@ pub struct SprayPlan {
     pub messages: Vec<String>,
 }
 
+/// The outcome of one spacing.
+struct Evaluation {
+    path: ToolPath,
+    counts: TrajectoryCounts,
+    passes: usize,
+    thickness: Vec<Real>,
+    quality: Quality,
+    empty_interior: bool,
+}
+
 /// Everything that does not depend on the spacing.
 struct Setup<'a> {
     mesh: &'a TriMesh,
@@ -85,10 +95,7 @@ impl Setup<'_> {
         Ok((path, counts, passes.len()))
     }
 
-    fn evaluate(
-        &self,
-        spacing: Real,
-    ) -> Result<(ToolPath, TrajectoryCounts, usize, Vec<Real>, Quality, bool), SprayError> {
+    fn evaluate(&self, spacing: Real) -> Result<Evaluation, SprayError> {
         let (path, counts, passes) = self.trajectory(spacing)?;
         let thickness = deposit(
             &path,
@@ -100,7 +107,14 @@ impl Setup<'_> {
         )?;
         let (quality, empty_interior) =
             evaluate_quality(&thickness, &self.samples.weights, &self.interior);
-        Ok((path, counts, passes, thickness, quality, empty_interior))
+        Ok(Evaluation {
+            path,
+            counts,
+            passes,
+            thickness,
+            quality,
+            empty_interior,
+        })
     }
 }
 
@@ -168,7 +182,7 @@ pub fn plan_spray(
                 lo,
                 hi,
                 &limits,
-                &mut |b| setup.evaluate(b).map(|r| r.4.interior),
+                &mut |b| setup.evaluate(b).map(|r| r.quality.interior),
                 &mut |f| progress("spray search", f),
             )?;
             if !choice.met {
@@ -190,8 +204,14 @@ pub fn plan_spray(
         _ => (params.spacing, true, Vec::new()),
     };
     progress("spray plan", 0.0);
-    let (mut path, counts, pass_count, mut thickness, mut quality, empty_interior) =
-        setup.evaluate(spacing)?;
+    let Evaluation {
+        mut path,
+        counts,
+        passes: pass_count,
+        mut thickness,
+        mut quality,
+        empty_interior,
+    } = setup.evaluate(spacing)?;
     let iterations = if iterations.is_empty() {
         vec![Iteration {
             spacing,
