@@ -4,9 +4,11 @@
 
 mod mesh;
 mod segment;
+mod spray;
 
 pub use mesh::Mesh;
 pub use segment::Segmentation;
+pub use spray::SprayPlan;
 
 use wasm_bindgen::prelude::*;
 
