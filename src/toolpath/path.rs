@@ -36,6 +36,28 @@ impl PoseKind {
     pub fn code(self) -> u8 {
         self as u8
     }
+    /// The name used in the CSV and JSON exports (camelCase, as serde writes it).
+    pub fn name(self) -> &'static str {
+        match self {
+            PoseKind::Pass => "pass",
+            PoseKind::StraightTransition => "straightTransition",
+            PoseKind::Arc => "arc",
+            PoseKind::Extension => "extension",
+            PoseKind::Link => "link",
+            PoseKind::Approach => "approach",
+            PoseKind::Retract => "retract",
+        }
+    }
+    /// Every kind, in code order.
+    pub const ALL: [PoseKind; 7] = [
+        PoseKind::Pass,
+        PoseKind::StraightTransition,
+        PoseKind::Arc,
+        PoseKind::Extension,
+        PoseKind::Link,
+        PoseKind::Approach,
+        PoseKind::Retract,
+    ];
 }
 
 /// One robot target: a position, the unit tool axis (pointing from the tool towards the part)
@@ -68,6 +90,9 @@ pub enum ToolPathError {
     /// The speed is not finite and positive.
     #[error("the tool-path speed must be finite and positive, got {0}")]
     BadSpeed(Real),
+    /// The tool path has no poses: there is nothing to export.
+    #[error("the tool path has no poses")]
+    Empty,
     /// An export option is out of range.
     #[error("export option {name} is invalid: {why}")]
     BadOption {
