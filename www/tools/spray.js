@@ -58,8 +58,12 @@ const CLASSES = [
 ];
 /** Viridis, sampled at 9 stops (van der Walt & Smith, CC0): perceptually even, colour-blind safe. */
 const VIRIDIS = ['#440154', '#472d7b', '#3b528b', '#2c728e', '#21918c', '#28ae80', '#5ec962', '#addc30', '#fde725'];
-/** At most this many evaluation points: beyond, the sampling resolution is coarsened. */
-const MAX_SAMPLES = 150_000;
+/** About this many evaluation points at most: beyond, the worker coarsens the resolution. */
+const MAX_SAMPLES = 100_000;
+/** About this many deposition time steps at most (see #coreParams). */
+const MAX_TIME_SAMPLES = 1_500_000;
+/** Plans with more passes open with the path hidden (their lines would cover the heat map). */
+const MAX_PASSES_SHOWN = 120;
 /** At most this many gun-axis ticks are drawn. */
 const MAX_TICKS = 1500;
 
@@ -122,6 +126,7 @@ const RESULTS = `
         <tbody></tbody>
       </table>
       <p id="spray-verdict" class="verdict"></p>
+      <ul id="spray-notes" class="warnings" aria-label="Planner remarks"></ul>
       <div class="chart-wrap"><svg id="spray-chart" role="img" aria-label="Error and standard deviation against pass spacing"></svg></div>
       <fieldset class="display-options"><legend>Show</legend>${group('display')}
         <label class="check">Colours <select id="spray-colors" name="colors">
@@ -246,10 +251,13 @@ class SprayTool {
     };
     if (v.search) params.quality = { maxStdDev: v.maxStdDev / 1000 / mm, maxError: v.maxError / 100 };
     if (v.scaleSpeed) params.targetThickness = v.target / 1000 / mm;
-    // Default resolution R/8; coarser on very large patches so the heat map stays drawable.
+    // The core's default time step moves the gun R/20 a step; on very large patches a longer
+    // step keeps the deposition within MAX_TIME_SAMPLES at the narrowest spacing searched
+    // (R/4, the core's default lower bound).
     const radius = params.standoff * Math.tan(params.coneAngle / 2);
-    const resolution = Math.max(radius / 8, Math.sqrt(areaFileUnits / MAX_SAMPLES));
-    if (resolution > radius / 8) params.resolution = resolution;
+    const narrowest = v.search ? Math.min(radius / 4, params.spacing) : params.spacing;
+    const step = Math.max(radius / 20, areaFileUnits / narrowest / MAX_TIME_SAMPLES);
+    if (step > radius / 20) params.timeStep = step / params.speed;
     return params;
   }
 
@@ -342,13 +350,19 @@ class SprayTool {
       let result;
       try {
         await shell.restoreEngine(progress, checkpoint);
-        result = await shell.engine.request('spray.plan', { params: request.params, patchId: request.patchId }, { onProgress: progress });
+        result = await shell.engine.request('spray.plan',
+          { params: request.params, patchId: request.patchId, sampleBudget: MAX_SAMPLES }, { onProgress: progress });
       } catch (error) {
         if (error instanceof CancelledError) throw error;
         throw new Error(`The spray plan failed: ${error.message.replace(/\.?$/, '.')} ${this.#plan ? 'The plan on screen is unchanged.' : ''}`.trim());
       }
       progress('Drawing', null);
       shell.showMemory(result.memoryBytes);
+      // Hundreds of passes would hide the heat map under their lines: start with the path
+      // off then (for this plan only; the saved setting is the user's).
+      if (result.passCount > MAX_PASSES_SHOWN) $('spray-showPath').checked = false;
+      // Exports re-plan with exactly these parameters when the worker lost the plan.
+      request.params = { ...request.params, resolution: result.resolution };
       this.#plan = { result, request, unit: shell.state.settings.unit, model: shell.state.model.name };
       this.#drawLayers();
       this.#renderResults();
@@ -479,7 +493,10 @@ class SprayTool {
     const seconds = lengthMm / speedMm;
     $('spray-summary').textContent = `${what}: ${integer.format(result.passCount)} passes ${num(result.spacing * mm, 3)} mm apart, ` +
       `gun at ${num(speedMm, 3)} mm/s` + (v.scaleSpeed && request.params.targetThickness ? ' (set for the target)' : '') +
-      `; path ${num(lengthMm / 1000, 3)} m, about ${timeText(seconds)} at that speed.`;
+      `; path ${num(lengthMm / 1000, 3)} m, about ${timeText(seconds)} at that speed. ` +
+      (result.passCount > MAX_PASSES_SHOWN && !v.showPath ? 'The path is hidden so the thickness shows: tick Path below. ' : '') +
+      `Thickness evaluated every ${num(result.resolution * mm, 3)} mm` +
+      (result.coarsened ? ' (coarsened on this large patch to keep planning quick).' : '.');
 
     const q = result.quality;
     const rows = [
@@ -500,7 +517,7 @@ class SprayTool {
     const verdict = $('spray-verdict');
     const chosen = result.iterations.find((it) => Math.abs(it.spacing - result.spacing) <= 1e-9 * result.spacing);
     if (request.params.quality) {
-      const met = chosen ? chosen.met : q.interior.error <= request.params.quality.maxError && q.interior.stdDev <= request.params.quality.maxStdDev;
+      const met = q.limitsMet ?? (chosen ? chosen.met : q.interior.error <= request.params.quality.maxError && q.interior.stdDev <= request.params.quality.maxStdDev);
       verdict.className = `verdict ${met ? 'ok' : 'bad'}`;
       verdict.textContent = met
         ? `Meets the limits (δ ≤ ${num(v.maxError, 3)} %, E ≤ ${num(v.maxStdDev, 3)} µm) at the widest spacing found.`
@@ -509,6 +526,10 @@ class SprayTool {
       verdict.className = 'verdict';
       verdict.textContent = 'Spacing as typed (no search).';
     }
+    // The planner's own remarks (trimmed concave folds, …); those the page already says in
+    // the painter's units above (limits not met, speed scaled) are left out.
+    const notes = (q.messages ?? []).filter((m) => m && !/^(quality limits not met|speed scaled)/i.test(m));
+    $('spray-notes').replaceChildren(...notes.map((m) => Object.assign(document.createElement('li'), { textContent: m })));
     // Classes against target ± tolerance, share of evaluation points.
     const t = result.sampleThickness;
     const counts = [0, 0, 0];
