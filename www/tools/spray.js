@@ -612,7 +612,8 @@ class SprayTool {
     if (!plan) return;
     const stem = fileStem(plan.model);
     // Robot programs are in mm; the program is named after the model (a RAPID/KRL identifier).
-    const name = `sp_${stem.replace(/[^A-Za-z0-9_]/g, '_')}`.slice(0, 24);
+    // KRL allows 24 characters and the exporters append a part number (_12): keep 16.
+    const name = `sp_${stem.replace(/[^A-Za-z0-9_]/g, '_')}`.slice(0, 16).replace(/_+$/, '');
     const options = { mmPerUnit: shell.mmPerUnit, name };
     const replan = (progress) => shell.engine.request('spray.plan', { params: plan.request.params, patchId: plan.request.patchId },
       { onProgress: progress });
