@@ -183,6 +183,18 @@ test('the sample aircraft sprays in one click: heat map, figures, chart and a RA
   }
   const moves = files.map((f) => f.text.match(/^\s*MoveL\s/gm)?.length ?? 0).reduce((a, b) => a + b, 0);
   assert.ok(moves > 10, `the program moves the gun (${moves} MoveL lines)`);
+
+  // An engine refusal lands in the alert, naming the parameter; the plan on screen stays.
+  const summary = await text(page, '#spray-summary');
+  await page.uncheck('#spray-search');
+  await page.fill('#spray-spacing', '1000000');
+  await page.click('#spray-plan-button');
+  await page.waitForFunction(() => document.getElementById('alert').textContent !== '');
+  await waitForReady(page);
+  assert.match(await text(page, '#alert'), /spacing/);
+  assert.equal(await text(page, '#spray-summary'), summary);
+  await page.click('#alert-dismiss');
+  await page.click('#spray-defaults-button');
 });
 
 test('no request left the origin and nothing was logged as an error', () => {
