@@ -366,6 +366,8 @@ class SprayTool {
       this.#plan = { result, request, unit: shell.state.settings.unit, model: shell.state.model.name };
       this.#drawLayers();
       this.#renderResults();
+      // Look at the sprayed side: a patch under a wing is otherwise out of sight.
+      if (request.patchId !== null && shell.patch(request.patchId)) shell.viewer.fitPatch(request.patchId, shell.patch(request.patchId).normal);
       document.body.dataset.sprayPlans = String(Number(document.body.dataset.sprayPlans ?? 0) + 1);
       shell.setStatus(`Spray on ${what}: ${result.passCount} passes at ${num(result.spacing * shell.mmPerUnit, 3)} mm, ` +
         `planned in ${num(result.timings.planMs / 1000, 2)} s.`);

@@ -192,15 +192,24 @@ export class Viewer extends EventTarget {
     this.#frameSphere(sphere, direction);
   }
 
-  /** Frames one patch (three.js computes its bounding box from its triangle range). */
-  fitPatch(id) {
+  /**
+   * Frames one patch (three.js computes its bounding box from its triangle range), looking
+   * from `normal` (file frame, e.g. the patch's mean normal) when given.
+   */
+  fitPatch(id, normal = null) {
     if (!this.#mesh || id === null || id < 0) return;
     const start = this.#ranges[2 * id];
     const count = this.#ranges[2 * id + 1];
     const positions = this.#mesh.geometry.attributes.position.array.subarray(9 * start, 9 * (start + count));
     const box = new THREE.Box3().setFromBufferAttribute(new THREE.BufferAttribute(positions, 3));
     const sphere = box.getBoundingSphere(new THREE.Sphere()).applyMatrix4(this.#mesh.matrixWorld);
-    this.#frameSphere(sphere, this.#viewDirection());
+    let direction = this.#viewDirection();
+    if (normal) {
+      // Slightly off the normal, so that the surface's relief still shows.
+      direction = new THREE.Vector3(...normal).applyQuaternion(this.#model.quaternion).normalize()
+        .addScaledVector(direction.normalize(), 0.35);
+    }
+    this.#frameSphere(sphere, direction);
   }
 
   /**
