@@ -2,6 +2,7 @@
 
 use crate::mesh::{MeshError, StlError};
 use crate::segment::ParamError;
+use crate::spray::SprayError;
 use crate::toolpath::ToolPathError;
 
 /// Any error the crate returns. Messages are written for the person who supplied the input.
@@ -16,6 +17,9 @@ pub enum Error {
     /// Segmentation parameters are out of range or contradictory.
     #[error(transparent)]
     Params(#[from] ParamError),
+    /// Spray planning parameters or the face selection are invalid.
+    #[error(transparent)]
+    Spray(#[from] SprayError),
     /// A tool path or one of its export options is invalid.
     #[error(transparent)]
     ToolPath(#[from] ToolPathError),

@@ -30,6 +30,7 @@ pub mod error;
 pub mod math;
 pub mod mesh;
 pub mod segment;
+pub mod spray;
 pub mod toolpath;
 
 #[cfg(feature = "wasm")]

@@ -141,3 +141,61 @@ fn the_param_reader_names_paths_types_and_unknown_keys_without_recursing() {
         format!("next.next.next.next.next is nested more than {MAX_DEPTH} objects deep")
     );
 }
+
+/// A 400 × 200 plate of 2 × 1 squares as binary STL, normal +z.
+fn plate_stl() -> Vec<u8> {
+    let tris: [[[f32; 3]; 3]; 4] = [
+        [[0., 0., 0.], [200., 0., 0.], [200., 200., 0.]],
+        [[0., 0., 0.], [200., 200., 0.], [0., 200., 0.]],
+        [[200., 0., 0.], [400., 0., 0.], [400., 200., 0.]],
+        [[200., 0., 0.], [400., 200., 0.], [200., 200., 0.]],
+    ];
+    let mut out = vec![0u8; 80];
+    out.extend_from_slice(&4u32.to_le_bytes());
+    for t in tris {
+        out.extend_from_slice(&[0u8; 12]);
+        t.iter()
+            .flatten()
+            .for_each(|c| out.extend_from_slice(&c.to_le_bytes()));
+        out.extend_from_slice(&[0, 0]);
+    }
+    out
+}
+
+#[wasm_bindgen_test]
+fn plan_spray_returns_flat_arrays_and_refuses_bad_params_by_name() {
+    let mesh = Mesh::from_stl(bytes(&plate_stl()), None).unwrap();
+    let params = r#"{"spacing": 50, "standoff": 100, "speed": 100, "flowRate": 1000,
+        "coneAngle": 0.9272952180016122, "transitionAngle": 0.35, "resolution": 25}"#;
+    let plan = mesh.plan_spray(json(params), None, None).unwrap();
+    assert_eq!(plan.pass_count(), 4);
+    let n = plan.point_kinds().len();
+    assert_eq!(plan.trajectory().len(), 6 * n);
+    assert_eq!(plan.pass_of().len(), n);
+    let samples = plan.sample_thickness().len();
+    assert_eq!(plan.sample_positions().len(), 3 * samples);
+    assert!(plan
+        .sample_triangles()
+        .iter()
+        .all(|&i| (i as usize) < samples));
+    let Err(e) = mesh.plan_spray(
+        json(&params.replace("\"speed\": 100", "\"speed\": -1")),
+        None,
+        None,
+    ) else {
+        panic!("negative speed accepted")
+    };
+    assert!(message(e).contains("speed"));
+    let Err(e) = mesh.plan_spray(
+        json(&params.replace("\"spacing\"", "\"spasing\"")),
+        None,
+        None,
+    ) else {
+        panic!("misspelt key accepted")
+    };
+    assert!(message(e).contains("spasing"));
+    let Err(e) = mesh.plan_spray(json(params), Some(vec![7]), None) else {
+        panic!("unknown face accepted")
+    };
+    assert!(message(e).contains('7'));
+}

@@ -1,7 +1,7 @@
 //! `Mesh`: an imported STL held on the Rust side (JavaScript must call `free()`).
 
 use super::params::{read_bytes, read_callback};
-use super::{progress_fn, Segmentation};
+use super::{progress_fn, Segmentation, SprayPlan};
 use crate::mesh::{import_stl, ImportedMesh};
 use std::rc::Rc;
 use wasm_bindgen::prelude::*;
@@ -71,5 +71,31 @@ impl Mesh {
         let params = super::segment::params_from_js(&params)?;
         let on_progress = read_callback(on_progress, "onProgress")?;
         Segmentation::new(self.inner.clone(), &params, on_progress)
+    }
+
+    /// Plans spray passes over `faces` (default: every triangle), predicts the coating and,
+    /// given quality limits, searches the largest spacing meeting them. Throws an `Error`
+    /// naming the bad parameter. `onProgress(stage, fraction)` is optional.
+    #[wasm_bindgen(js_name = planSpray)]
+    pub fn plan_spray(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "SprayPlanParams")] params: JsValue,
+        faces: Option<Vec<u32>>,
+        #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
+        on_progress: Option<js_sys::Function>,
+    ) -> Result<SprayPlan, JsError> {
+        // Every JavaScript input is read before the mesh is used.
+        let params = super::spray::spray_params_from_js(params)?;
+        let faces = faces.unwrap_or_else(|| (0..self.inner.mesh.triangle_count() as u32).collect());
+        let m = &self.inner;
+        let plan = crate::spray::plan_spray(
+            &m.mesh,
+            &m.adjacency,
+            &m.geometry,
+            &faces,
+            &params,
+            &mut progress_fn(on_progress),
+        )?;
+        Ok(SprayPlan::new(plan))
     }
 }

@@ -5,10 +5,12 @@
 mod mesh;
 mod params;
 mod segment;
+mod spray;
 
 pub use mesh::Mesh;
 pub use params::{ArgError, ParamReader, MAX_DEPTH};
 pub use segment::Segmentation;
+pub use spray::SprayPlan;
 
 use wasm_bindgen::prelude::*;
 

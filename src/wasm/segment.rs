@@ -178,4 +178,16 @@ impl Segmentation {
             }
         }
     }
+
+    /// Triangle ids of patch `id`, in increasing order. Throws if there is no such patch.
+    #[wasm_bindgen(js_name = patchFaces)]
+    pub fn patch_faces(&self, id: u32) -> Result<Vec<u32>, JsError> {
+        if id as usize >= self.inner.patches.len() {
+            return Err(JsError::new(&format!(
+                "no patch {id}: this segmentation has {} patches",
+                self.inner.patches.len()
+            )));
+        }
+        Ok(self.inner.faces_of(id as usize).map(|f| f as u32).collect())
+    }
 }

@@ -22,7 +22,7 @@ const CHROMIUM_ARGS = [
  * Serves dist/ and opens a page on it. Records every request that leaves the origin and
  * every console error or uncaught exception, for the tests to assert on at the end.
  */
-export async function openApp({ viewport = { width: 1400, height: 860 }, hash = '' } = {}) {
+export async function openApp({ viewport = { width: 1400, height: 860 }, hash = '', beforeGoto } = {}) {
   const { server, url } = await serve(join(repoRoot, 'dist'), 0);
   const browser = await chromium.launch({ executablePath: '/usr/bin/chromium', headless: true, args: CHROMIUM_ARGS });
   const context = await browser.newContext({ viewport, acceptDownloads: true });
@@ -38,6 +38,7 @@ export async function openApp({ viewport = { width: 1400, height: 860 }, hash = 
     if (message.type() === 'error') consoleErrors.push(message.text());
   });
   page.on('pageerror', (error) => consoleErrors.push(`uncaught: ${error.message}`));
+  await beforeGoto?.(page, url); // e.g. routes that hold back a response
   await page.goto(url + hash);
   const close = async () => {
     await browser.close();
@@ -135,6 +136,12 @@ export function torusStl(around, tube, fileName) {
 export function importMapHash(html) {
   const script = html.match(/<script type="importmap">([\s\S]*?)<\/script>/);
   return script ? createHash('sha256').update(script[1]).digest('base64') : null;
+}
+
+/** Waits for the next download started by `action`; resolves to { name, bytes }. */
+export async function saveDownload(page, action, timeout = 60_000) {
+  const [download] = await Promise.all([page.waitForEvent('download', { timeout }), action()]);
+  return { name: download.suggestedFilename(), bytes: readFileSync(await download.path()) };
 }
 
 export function readText(path) {

@@ -1,4 +1,6 @@
 // The 3D view: the only module (with picking.js) that imports three.js.
+// Tools draw their own results as layers (setLayer): line sets and unlit coloured surfaces
+// in the file's frame, turned with the model; they never touch three.js themselves.
 // One non-indexed geometry holds the whole mesh, triangles grouped by patch (see worker.js),
 // coloured per vertex. Visibility and highlighting only rewrite the geometry's draw groups
 // (a handful of ranges), so they stay instant at a million triangles.
@@ -77,6 +79,7 @@ export class Viewer extends EventTarget {
   #renderQueued = false;
   #sceneRadius = 1; // bounding radius of the whole model: bounds the far plane
   #gizmo;
+  #layers = new Map(); // tool layer id -> three.js object
 
   constructor(container) {
     super();
@@ -189,15 +192,76 @@ export class Viewer extends EventTarget {
     this.#frameSphere(sphere, direction);
   }
 
-  /** Frames one patch (three.js computes its bounding box from its triangle range). */
-  fitPatch(id) {
+  /**
+   * Frames one patch (three.js computes its bounding box from its triangle range), looking
+   * from `normal` (file frame, e.g. the patch's mean normal) when given.
+   */
+  fitPatch(id, normal = null) {
     if (!this.#mesh || id === null || id < 0) return;
     const start = this.#ranges[2 * id];
     const count = this.#ranges[2 * id + 1];
     const positions = this.#mesh.geometry.attributes.position.array.subarray(9 * start, 9 * (start + count));
     const box = new THREE.Box3().setFromBufferAttribute(new THREE.BufferAttribute(positions, 3));
     const sphere = box.getBoundingSphere(new THREE.Sphere()).applyMatrix4(this.#mesh.matrixWorld);
-    this.#frameSphere(sphere, this.#viewDirection());
+    let direction = this.#viewDirection();
+    if (normal) {
+      // Slightly off the normal, so that the surface's relief still shows.
+      direction = new THREE.Vector3(...normal).applyQuaternion(this.#model.quaternion).normalize()
+        .addScaledVector(direction.normalize(), 0.35);
+    }
+    this.#frameSphere(sphere, direction);
+  }
+
+  /**
+   * Adds or replaces a tool's layer (ids are namespaced by tool, e.g. 'spray.path'):
+   *   { kind: 'lines', positions: Float32Array (x y z, two points per segment),
+   *     colors?: Uint8Array (sRGB r g b per point) or color?: '#rrggbb', dashed?: boolean,
+   *     dashSize?: number (file units) }
+   *   { kind: 'surface', positions: Float32Array, indices: Uint32Array,
+   *     colors: Uint8Array (sRGB r g b per vertex) }   drawn unlit, so it shows the exact colours
+   * The arrays are kept (not copied): the caller must not change them afterwards.
+   */
+  setLayer(id, spec) {
+    this.removeLayer(id);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(spec.positions, 3));
+    if (spec.colors) geometry.setAttribute('color', new THREE.BufferAttribute(linearColors(spec.colors), 3));
+    let object;
+    if (spec.kind === 'surface') {
+      geometry.setIndex(new THREE.BufferAttribute(spec.indices, 1));
+      object = new THREE.Mesh(geometry, new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide }));
+    } else {
+      const common = { vertexColors: Boolean(spec.colors), color: spec.colors ? 0xffffff : spec.color ?? '#000000' };
+      const material = spec.dashed
+        ? new THREE.LineDashedMaterial({ ...common, dashSize: spec.dashSize ?? 1, gapSize: spec.dashSize ?? 1 })
+        : new THREE.LineBasicMaterial(common);
+      object = new THREE.LineSegments(geometry, material);
+      if (spec.dashed) object.computeLineDistances();
+    }
+    object.raycast = () => {}; // picking stays on the model's patches
+    object.renderOrder = spec.kind === 'surface' ? 1 : 2;
+    this.#layers.set(id, object);
+    this.#model.add(object);
+    this.requestRender();
+  }
+
+  /** Removes a layer (no-op for an unknown id). */
+  removeLayer(id) {
+    const object = this.#layers.get(id);
+    if (!object) return;
+    this.#model.remove(object);
+    object.geometry.dispose();
+    object.material.dispose();
+    this.#layers.delete(id);
+    this.requestRender();
+  }
+
+  /** Shows or hides a layer without rebuilding it. */
+  setLayerVisible(id, visible) {
+    const object = this.#layers.get(id);
+    if (!object || object.visible === visible) return;
+    object.visible = visible;
+    this.requestRender();
   }
 
   /** Drops the model (the view goes empty). */
@@ -425,6 +489,17 @@ class AxisGizmo {
     const canvas = renderer.domElement;
     renderer.setViewport(0, 0, canvas.width / renderer.getPixelRatio(), canvas.height / renderer.getPixelRatio());
   }
+}
+
+/** sRGB bytes to linear floats: the renderer encodes back to sRGB, so the screen shows the bytes. */
+const SRGB_TO_LINEAR = Float32Array.from({ length: 256 }, (_, i) => {
+  const c = i / 255;
+  return c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4;
+});
+function linearColors(bytes) {
+  const out = new Float32Array(bytes.length);
+  for (let i = 0; i < bytes.length; i++) out[i] = SRGB_TO_LINEAR[bytes[i]];
+  return out;
 }
 
 function labelTexture(text, color) {

@@ -1,0 +1,112 @@
+//! A uniform bucket grid over points, for "which points lie in this box" queries.
+//!
+//! No paper: a dense grid of cubic cells over the points' bounding box, points sorted by
+//! cell (counting sort) with one offset per cell. Cells are enlarged when the box would need
+//! more than [`MAX_CELLS`].
+//! Input:  points, wanted cell size. Output: per-box iteration over candidate point ids.
+//! Cost:   O(P + cells) to build; a query visits the cells its box overlaps.
+
+use crate::math::{Point3, Real, Vector3};
+
+/// Most cells a grid may have (memory: 4 bytes a cell).
+pub const MAX_CELLS: usize = 1 << 23;
+
+/// Points bucketed by cell.
+#[derive(Debug, Clone)]
+pub struct PointGrid {
+    origin: Vector3,
+    cell: Real,
+    dims: [usize; 3],
+    start: Vec<u32>,
+    ids: Vec<u32>,
+}
+
+impl PointGrid {
+    /// Buckets `points` into cells of about `cell` (larger if the box would need too many).
+    pub fn new(points: &[Point3], cell: Real) -> Self {
+        let (mut lo, mut hi) = (
+            Vector3::repeat(Real::INFINITY),
+            Vector3::repeat(-Real::INFINITY),
+        );
+        for p in points {
+            lo = lo.inf(&p.coords);
+            hi = hi.sup(&p.coords);
+        }
+        if points.is_empty() {
+            (lo, hi) = (Vector3::zeros(), Vector3::zeros());
+        }
+        let size = hi - lo;
+        let mut cell = if cell > 0.0 && cell.is_finite() {
+            cell
+        } else {
+            1.0
+        };
+        let dims_for = |c: Real| size.map(|s| (s / c).floor() as usize + 1);
+        let mut dims = dims_for(cell);
+        // Each round at least doubles the cell, so this ends within ~64 rounds.
+        while (dims.x as Real) * (dims.y as Real) * (dims.z as Real) > MAX_CELLS as Real {
+            cell *= 2.0;
+            dims = dims_for(cell);
+        }
+        let dims = [dims.x, dims.y, dims.z];
+        let cells = dims[0] * dims[1] * dims[2];
+        let mut grid = PointGrid {
+            origin: lo,
+            cell,
+            dims,
+            start: vec![0; cells + 1],
+            ids: vec![0; points.len()],
+        };
+        let keys: Vec<usize> = points.iter().map(|p| grid.cell_of(p)).collect();
+        for &k in &keys {
+            grid.start[k + 1] += 1;
+        }
+        for k in 0..cells {
+            grid.start[k + 1] += grid.start[k];
+        }
+        let mut fill = grid.start.clone();
+        for (i, &k) in keys.iter().enumerate() {
+            grid.ids[fill[k] as usize] = i as u32;
+            fill[k] += 1;
+        }
+        grid
+    }
+
+    fn coord(&self, x: Real, axis: usize) -> usize {
+        let c = ((x - self.origin[axis]) / self.cell).floor();
+        if c <= 0.0 {
+            0
+        } else {
+            (c as usize).min(self.dims[axis] - 1)
+        }
+    }
+
+    fn cell_of(&self, p: &Point3) -> usize {
+        let [i, j, k] = [0, 1, 2].map(|a| self.coord(p[a], a));
+        (k * self.dims[1] + j) * self.dims[0] + i
+    }
+
+    /// Calls `visit(id)` for every point in a cell overlapping the box `[lo, hi]` (a superset
+    /// of the points inside the box).
+    pub fn for_each_in_box(&self, lo: &Vector3, hi: &Vector3, mut visit: impl FnMut(usize)) {
+        for a in 0..3 {
+            if hi[a] < self.origin[a] || lo[a] > self.origin[a] + self.cell * self.dims[a] as Real {
+                return;
+            }
+        }
+        let l = [0, 1, 2].map(|a| self.coord(lo[a], a));
+        let h = [0, 1, 2].map(|a| self.coord(hi[a], a));
+        for k in l[2]..=h[2] {
+            for j in l[1]..=h[1] {
+                let row = (k * self.dims[1] + j) * self.dims[0];
+                let (s, e) = (
+                    self.start[row + l[0]] as usize,
+                    self.start[row + h[0] + 1] as usize,
+                );
+                for &id in &self.ids[s..e] {
+                    visit(id as usize);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,30 @@
+//! Spray trajectories with a coating-thickness model (seed 002: the Tsinghua patent "a
+//! trajectory planning method for curved-surface spraying").
+//!
+//! [`plan_spray`] cuts the selected faces with parallel scan planes ([`scan_passes`]),
+//! offsets the scan segments by the standoff and joins them with straight or arc
+//! transitions ([`build_trajectory`]), predicts the coating on evaluation samples
+//! ([`sample_faces`], [`deposit`]), measures its quality ([`evaluate_quality`]) and, given
+//! quality limits, searches the largest pass spacing meeting them ([`search_spacing`]).
+
+mod deposition;
+mod grid;
+mod params;
+mod plan;
+mod quality;
+mod raster;
+mod samples;
+mod search;
+mod trajectory;
+
+pub use deposition::{deposit, time_sample_count, SprayModel, MAX_AXIAL_RATIO};
+pub use grid::PointGrid;
+pub use params::{
+    QualityLimits, Resolved, SprayError, SprayParams, MAX_PLANES, MAX_SAMPLES, MAX_TIME_SAMPLES,
+};
+pub use plan::{plan_spray, SprayPlan};
+pub use quality::{evaluate_quality, interior_mask, thickness_stats, Quality, ThicknessStats};
+pub use raster::{order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass};
+pub use samples::{sample_faces, EvaluationSamples};
+pub use search::{search_spacing, Iteration, Limits, SpacingChoice};
+pub use trajectory::{build_trajectory, TrajectoryCounts, ARC_STEP_RAD};

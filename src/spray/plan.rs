@@ -1,0 +1,286 @@
+//! `plan_spray`: scan planes, trajectory, deposition, quality and the spacing search in one
+//! call.
+//!
+//! Source: spray patent (Tsinghua, Guan & Chen), steps 1–7 (claims 1–7).
+//! Input:  mesh, adjacency, face geometry, selected face ids, [`SprayParams`].
+//! Output: [`SprayPlan`]: the tool path, evaluation samples with their thickness, quality,
+//!         every spacing tried.
+//! Cost:   samples and their grids once; per spacing tried O(F + S log S) for the raster and
+//!         O(time samples × points per cone) for the deposition.
+//! Deviations: optional `targetThickness` scales the speed after the spacing is fixed
+//!         (thickness ∝ 1/v); the iterations keep the figures at the given speed.
+
+use super::deposition::{deposit, SprayModel};
+use super::grid::PointGrid;
+use super::params::{SprayError, SprayParams};
+use super::quality::{evaluate_quality, interior_mask, Quality, ThicknessStats};
+use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame};
+use super::samples::{sample_faces, EvaluationSamples};
+use super::search::{search_spacing, Iteration, Limits};
+use super::trajectory::{build_trajectory, TrajectoryCounts};
+use crate::math::Real;
+use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
+use crate::toolpath::ToolPath;
+
+/// A planned spray job.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SprayPlan {
+    /// The gun trajectory (speed = the final gun speed).
+    pub path: ToolPath,
+    /// Pass spacing used.
+    pub spacing: Real,
+    /// Gun speed used (scaled when a target thickness was given).
+    pub speed: Real,
+    /// Number of passes.
+    pub pass_count: usize,
+    /// What the trajectory contains (transitions, arcs, trimmed concave edges).
+    pub counts: TrajectoryCounts,
+    /// Evaluation samples and their display mesh.
+    pub samples: EvaluationSamples,
+    /// Thickness per sample, mesh unit.
+    pub thickness: Vec<Real>,
+    /// Whether each sample counts as interior (away from the boundary).
+    pub interior: Vec<bool>,
+    /// Figures over the interior and the whole patch.
+    pub quality: Quality,
+    /// Every spacing tried with its interior figures (one entry without quality limits).
+    pub iterations: Vec<Iteration>,
+    /// Whether the quality limits hold (true without limits).
+    pub limits_met: bool,
+    /// Plain-language remarks: limits not met, empty interior, speed scaled.
+    pub messages: Vec<String>,
+}
+
+/// The outcome of one spacing.
+struct Evaluation {
+    path: ToolPath,
+    counts: TrajectoryCounts,
+    passes: usize,
+    thickness: Vec<Real>,
+    quality: Quality,
+    empty_interior: bool,
+}
+
+/// Everything that does not depend on the spacing.
+struct Setup<'a> {
+    mesh: &'a TriMesh,
+    adjacency: &'a FaceAdjacency,
+    geometry: &'a FaceGeometry,
+    params: &'a SprayParams,
+    frame: PatchFrame,
+    samples: EvaluationSamples,
+    grid: PointGrid,
+    interior: Vec<bool>,
+    model: SprayModel,
+    extension: Real,
+    time_step: Real,
+}
+
+impl Setup<'_> {
+    fn trajectory(&self, spacing: Real) -> Result<(ToolPath, TrajectoryCounts, usize), SprayError> {
+        let offsets = self.frame.plane_offsets(spacing)?;
+        let passes = scan_passes(self.mesh, self.adjacency, &self.frame, &offsets);
+        if passes.is_empty() {
+            return Err(SprayError::PlanesMissPatch);
+        }
+        let passes = order_zigzag(passes);
+        let (path, counts) = build_trajectory(
+            &passes,
+            self.geometry.normals(),
+            self.params.standoff,
+            self.params.transition_angle,
+            self.extension,
+            self.params.speed,
+        );
+        Ok((path, counts, passes.len()))
+    }
+
+    fn evaluate(&self, spacing: Real) -> Result<Evaluation, SprayError> {
+        let (path, counts, passes) = self.trajectory(spacing)?;
+        let thickness = deposit(
+            &path,
+            &self.samples,
+            &self.grid,
+            &self.model,
+            self.params.speed,
+            self.time_step,
+        )?;
+        let (quality, empty_interior) =
+            evaluate_quality(&thickness, &self.samples.weights, &self.interior);
+        Ok(Evaluation {
+            path,
+            counts,
+            passes,
+            thickness,
+            quality,
+            empty_interior,
+        })
+    }
+}
+
+/// Plans the spray trajectory over `faces` and predicts the coating; with quality limits,
+/// searches the largest spacing meeting them. Reports `(stage, fraction)` for the stages
+/// `spray samples`, `spray search` and `spray plan`.
+pub fn plan_spray(
+    mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
+    geometry: &FaceGeometry,
+    faces: &[u32],
+    params: &SprayParams,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<SprayPlan, SprayError> {
+    let resolved = params.validate()?;
+    let frame = patch_frame(
+        mesh,
+        geometry,
+        faces,
+        resolved.direction,
+        params.raster_angle,
+    )?;
+    // Refuse a spacing wider than the patch before the costly set-up.
+    frame.plane_offsets(params.spacing)?;
+    progress("spray samples", 0.0);
+    let samples = sample_faces(mesh, geometry, &frame.faces, resolved.resolution)?;
+    let grid = PointGrid::new(&samples.positions, resolved.radius);
+    let interior = interior_mask(
+        mesh,
+        adjacency,
+        &frame.faces,
+        &frame.selected,
+        &samples.positions,
+        resolved.edge_exclusion,
+    );
+    progress("spray samples", 1.0);
+    let setup = Setup {
+        mesh,
+        adjacency,
+        geometry,
+        params,
+        frame,
+        samples,
+        grid,
+        interior,
+        model: SprayModel {
+            radius: resolved.radius,
+            peak_rate: resolved.peak_rate,
+            standoff: params.standoff,
+        },
+        extension: resolved.extension,
+        time_step: resolved.time_step,
+    };
+    let mut messages = Vec::new();
+    let (spacing, limits_met, iterations) = match (params.has_limits(), params.quality) {
+        (true, Some(q)) => {
+            let width = setup.frame.width();
+            let hi = q.max_spacing.unwrap_or(2.0 * resolved.radius).min(width);
+            let lo = q.min_spacing.unwrap_or(0.25 * resolved.radius).min(hi);
+            let limits = Limits {
+                max_std_dev: q.max_std_dev,
+                max_error: q.max_error,
+            };
+            let choice = search_spacing(
+                lo,
+                hi,
+                &limits,
+                &mut |b| setup.evaluate(b).map(|r| r.quality.interior),
+                &mut |f| progress("spray search", f),
+            )?;
+            if !choice.met {
+                let it = choice
+                    .iterations
+                    .iter()
+                    .find(|it| it.spacing == choice.spacing);
+                messages.push(format!(
+                    "quality limits not met: no spacing in [{lo:.6}, {hi:.6}] gives stdDev ≤ {} and error ≤ {}; the closest, spacing {:.6}, gives stdDev {:.6} and error {:.4}",
+                    fmt_limit(q.max_std_dev),
+                    fmt_limit(q.max_error),
+                    choice.spacing,
+                    it.map_or(Real::NAN, |it| it.std_dev),
+                    it.map_or(Real::NAN, |it| it.error),
+                ));
+            }
+            (choice.spacing, choice.met, choice.iterations)
+        }
+        _ => (params.spacing, true, Vec::new()),
+    };
+    progress("spray plan", 0.0);
+    let Evaluation {
+        mut path,
+        counts,
+        passes: pass_count,
+        mut thickness,
+        mut quality,
+        empty_interior,
+    } = setup.evaluate(spacing)?;
+    let iterations = if iterations.is_empty() {
+        vec![Iteration {
+            spacing,
+            mean: quality.interior.mean,
+            std_dev: quality.interior.std_dev,
+            error: quality.interior.error,
+            met: true,
+        }]
+    } else {
+        iterations
+    };
+    if empty_interior {
+        messages.push(format!(
+            "no sample lies edgeExclusion = {:.6} from the boundary: the interior figures are the whole patch's",
+            resolved.edge_exclusion
+        ));
+    }
+    let mut speed = params.speed;
+    if let Some(target) = params.target_thickness {
+        let mean = quality.interior.mean;
+        if mean > 0.0 {
+            // Thickness ∝ 1/v.
+            let factor = mean / target;
+            speed = params.speed * factor;
+            thickness.iter_mut().for_each(|t| *t /= factor);
+            for s in [&mut quality.interior, &mut quality.whole] {
+                scale(s, 1.0 / factor);
+            }
+            path.speed = speed;
+            path.link_speed = speed;
+            messages.push(format!(
+                "speed scaled from {} to {speed:.6} for an interior mean thickness of {target}",
+                params.speed
+            ));
+        } else {
+            messages.push(
+                "targetThickness ignored: the trajectory deposits nothing on the interior".into(),
+            );
+        }
+    }
+    path.notes.push(format!(
+        "spacing {spacing:.6}, standoff {}, speed {speed:.6}, flow rate {}, cone angle {:.6} rad, transition angle {:.6} rad, efficiency {}",
+        params.standoff, params.flow_rate, params.cone_angle, params.transition_angle, params.efficiency
+    ));
+    path.notes.extend(messages.iter().cloned());
+    progress("spray plan", 1.0);
+    Ok(SprayPlan {
+        path,
+        spacing,
+        speed,
+        pass_count,
+        counts,
+        samples: setup.samples,
+        thickness,
+        interior: setup.interior,
+        quality,
+        iterations,
+        limits_met,
+        messages,
+    })
+}
+
+fn fmt_limit(limit: Option<Real>) -> String {
+    limit.map_or("(none)".into(), |l| format!("{l}"))
+}
+
+fn scale(s: &mut ThicknessStats, k: Real) {
+    s.mean *= k;
+    s.std_dev *= k;
+    s.min *= k;
+    s.max *= k;
+}

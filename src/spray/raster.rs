@@ -1,0 +1,407 @@
+//! Scan planes across a patch and their chaining into passes.
+//!
+//! Source: spray patent (Tsinghua, Guan & Chen), steps 1–2: parallel planes spaced `b` cut the
+//! triangles; a triangle crossed by a plane gives one scan segment between its two edge
+//! crossings.
+//! Input:  mesh, face adjacency and geometry; the selected faces; pass direction; spacing.
+//! Output: per plane, the passes (polylines of edge crossings with the face of each segment),
+//!         oriented along the pass direction and ordered along it.
+//! Cost:   O(F + S log S) for F selected faces and S scan segments: each face is bucketed to
+//!         the planes its extent spans, and segments of one plane are chained through the
+//!         face adjacency (no search).
+//! Deviations (no paper for these): the default pass direction is the principal axis of
+//!         the patch in its mean plane (area-weighted vertex covariance); the planes are
+//!         centred on the patch so the outermost ones lie at most `b/2` inside its extremes;
+//!         a vertex exactly on a plane counts as above it, so neighbours agree on every
+//!         crossing; zero-length segments (a plane through a vertex) are dropped; a plane
+//!         meeting holes or a concave outline gives several passes.
+
+use super::params::{SprayError, MAX_PLANES};
+use crate::math::{Point3, Real, Vector3};
+use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh, NO_FACE};
+
+/// Mean normals shorter than this fraction of the total area (a closed surface) fall back to
+/// the normal of the largest face.
+const MEAN_NORMAL_MIN_RATIO: Real = 1e-6;
+/// A given direction within this sine of the mean normal gives no pass direction.
+const DIRECTION_PARALLEL_SINE: Real = 1e-6;
+/// Segments shorter than this fraction of the patch size are dropped (a plane through a vertex).
+const SEGMENT_MIN_RATIO: Real = 1e-12;
+
+/// Relative slack on `width / spacing` before rounding up the plane count, so rounding noise
+/// in the frame does not add a plane (the outermost margin may then exceed `b/2` by this much).
+const PLANE_COUNT_TOLERANCE: Real = 1e-6;
+
+const NONE: u32 = u32::MAX;
+
+/// The selected faces with their mean plane and the raster frame.
+#[derive(Debug, Clone)]
+pub struct PatchFrame {
+    /// Selected, non-degenerate faces in increasing order.
+    pub faces: Vec<u32>,
+    /// Per mesh face: whether it is selected and non-degenerate.
+    pub selected: Vec<bool>,
+    /// Unit mean normal (area-weighted).
+    pub normal: Vector3,
+    /// Unit pass direction, ⟂ `normal`.
+    pub travel: Vector3,
+    /// Unit direction across the passes: `normal × travel`.
+    pub across: Vector3,
+    /// Smallest and largest `across·x` over the patch's vertices.
+    pub extent: (Real, Real),
+    /// Size of the patch (bounding-box diagonal), for relative tolerances.
+    pub size: Real,
+    /// Total area.
+    pub area: Real,
+}
+
+/// One pass: crossing points in travel order and the face of each segment between them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScanPass {
+    /// Index of the scan plane.
+    pub plane: usize,
+    /// `faces.len() + 1` points on triangle edges.
+    pub points: Vec<Point3>,
+    /// The face of segment `i` (from `points[i]` to `points[i + 1]`).
+    pub faces: Vec<u32>,
+}
+
+/// Checks the face list and computes the patch frame. `direction` (if any) is projected on
+/// the mean plane; the result is turned by `raster_angle` about the mean normal.
+pub fn patch_frame(
+    mesh: &TriMesh,
+    geometry: &FaceGeometry,
+    faces: &[u32],
+    direction: Option<Vector3>,
+    raster_angle: Real,
+) -> Result<PatchFrame, SprayError> {
+    if faces.is_empty() {
+        return Err(SprayError::NoFaces);
+    }
+    let count = mesh.triangle_count();
+    let mut selected = vec![false; count];
+    for &f in faces {
+        if f as usize >= count {
+            return Err(SprayError::UnknownFace { face: f, count });
+        }
+        selected[f as usize] = !geometry.is_degenerate(f as usize);
+    }
+    let list: Vec<u32> = (0..count as u32)
+        .filter(|&f| selected[f as usize])
+        .collect();
+    if list.is_empty() {
+        return Err(SprayError::NoArea);
+    }
+    let (normals, areas) = (geometry.normals(), geometry.areas());
+    let mut sum = Vector3::zeros();
+    let mut area = 0.0;
+    let mut centroid = Vector3::zeros();
+    let mut largest = list[0] as usize;
+    for &f in &list {
+        let f = f as usize;
+        sum += normals[f] * areas[f];
+        area += areas[f];
+        centroid += geometry.centroids()[f].coords * areas[f];
+        if areas[f] > areas[largest] {
+            largest = f;
+        }
+    }
+    if area <= 0.0 {
+        return Err(SprayError::NoArea);
+    }
+    centroid /= area;
+    let normal = if sum.norm() > MEAN_NORMAL_MIN_RATIO * area {
+        sum.normalize()
+    } else {
+        normals[largest]
+    };
+    // An orthonormal basis (e1, e2) of the mean plane.
+    let helper = if normal.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    let e1 = normal.cross(&helper).normalize();
+    let e2 = normal.cross(&e1);
+    let mut travel = match direction {
+        Some(d) => {
+            let along = d - normal * normal.dot(&d);
+            if along.norm() <= DIRECTION_PARALLEL_SINE * d.norm() {
+                return Err(SprayError::DirectionAlongNormal {
+                    normal: normal.into(),
+                });
+            }
+            along.normalize()
+        }
+        None => {
+            // Principal axis: second moment of area in the mean plane, exact per triangle:
+            // ∫ r rᵀ dA = A/12 · (a aᵀ + b bᵀ + c cᵀ + s sᵀ), s = a + b + c.
+            let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+            for &f in &list {
+                let w = areas[f as usize] / 12.0;
+                let xy = mesh.corners(f as usize).map(|c| {
+                    let r = c.coords - centroid;
+                    (r.dot(&e1), r.dot(&e2))
+                });
+                let s = (xy[0].0 + xy[1].0 + xy[2].0, xy[0].1 + xy[1].1 + xy[2].1);
+                for (x, y) in xy.into_iter().chain([s]) {
+                    sxx += w * x * x;
+                    sxy += w * x * y;
+                    syy += w * y * y;
+                }
+            }
+            let phi = 0.5 * libm::atan2(2.0 * sxy, sxx - syy);
+            e1 * libm::cos(phi) + e2 * libm::sin(phi)
+        }
+    };
+    travel = travel * libm::cos(raster_angle) + normal.cross(&travel) * libm::sin(raster_angle);
+    travel = (travel - normal * normal.dot(&travel)).normalize();
+    let across = normal.cross(&travel);
+    let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
+    let (mut bmin, mut bmax) = (
+        Vector3::repeat(Real::INFINITY),
+        Vector3::repeat(-Real::INFINITY),
+    );
+    for &f in &list {
+        for c in mesh.corners(f as usize) {
+            let s = across.dot(&c.coords);
+            lo = lo.min(s);
+            hi = hi.max(s);
+            bmin = bmin.inf(&c.coords);
+            bmax = bmax.sup(&c.coords);
+        }
+    }
+    Ok(PatchFrame {
+        faces: list,
+        selected,
+        normal,
+        travel,
+        across,
+        extent: (lo, hi),
+        size: (bmax - bmin).norm(),
+        area,
+    })
+}
+
+impl PatchFrame {
+    /// Width of the patch across the passes.
+    pub fn width(&self) -> Real {
+        self.extent.1 - self.extent.0
+    }
+
+    /// Offsets `across·x = s_k` of the scan planes for `spacing`: `ceil(width / b)` planes
+    /// centred on the patch, so the outermost lie at most `b/2` inside the extremes.
+    pub fn plane_offsets(&self, spacing: Real) -> Result<Vec<Real>, SprayError> {
+        let width = self.width();
+        if spacing > width * (1.0 + PLANE_COUNT_TOLERANCE) {
+            return Err(SprayError::SpacingTooLarge { spacing, width });
+        }
+        let planes = (width / spacing * (1.0 - PLANE_COUNT_TOLERANCE))
+            .ceil()
+            .max(1.0);
+        if planes > MAX_PLANES as Real {
+            return Err(SprayError::TooManyPlanes {
+                spacing,
+                planes: planes as usize,
+                width,
+            });
+        }
+        let n = planes as usize;
+        let margin = 0.5 * (width - (n - 1) as Real * spacing);
+        Ok((0..n)
+            .map(|k| self.extent.0 + margin + k as Real * spacing)
+            .collect())
+    }
+}
+
+/// One scan segment of a plane: its face, the two crossed edge slots and crossing points.
+struct Segment {
+    face: u32,
+    edges: [usize; 2],
+    points: [Point3; 2],
+}
+
+/// Cuts the patch with the planes `across·x = s_k` and chains each plane's segments into
+/// passes oriented along `frame.travel`, ordered along it within a plane.
+pub fn scan_passes(
+    mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
+    frame: &PatchFrame,
+    offsets: &[Real],
+) -> Vec<ScanPass> {
+    let n = offsets.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let (s0, step) = (
+        offsets[0],
+        if n > 1 { offsets[1] - offsets[0] } else { 1.0 },
+    );
+    let plane_range = |f: u32| {
+        let d = mesh
+            .corners(f as usize)
+            .map(|c| frame.across.dot(&c.coords));
+        let (lo, hi) = (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]));
+        // One plane of slack each way; the exact sign test decides.
+        let k0 = (((lo - s0) / step).floor() as i64).max(0);
+        let k1 = (((hi - s0) / step).ceil() as i64).min(n as i64 - 1);
+        (k0, k1)
+    };
+    // Bucket faces by plane (counting sort).
+    let mut start = vec![0usize; n + 1];
+    for &f in &frame.faces {
+        let (k0, k1) = plane_range(f);
+        for k in k0..=k1 {
+            start[k as usize + 1] += 1;
+        }
+    }
+    for k in 0..n {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut bucket = vec![0u32; start[n]];
+    for &f in &frame.faces {
+        let (k0, k1) = plane_range(f);
+        for k in k0..=k1 {
+            bucket[fill[k as usize]] = f;
+            fill[k as usize] += 1;
+        }
+    }
+    let min_length = SEGMENT_MIN_RATIO * frame.size;
+    let positions = mesh.positions();
+    let mut slot = vec![NONE; mesh.triangle_count()];
+    let mut passes = Vec::new();
+    let mut segments: Vec<Segment> = Vec::new();
+    for (k, &s) in offsets.iter().enumerate() {
+        segments.clear();
+        for &f in &bucket[start[k]..start[k + 1]] {
+            let tri = mesh.triangles()[f as usize];
+            let d = tri.map(|v| frame.across.dot(&positions[v as usize].coords) - s);
+            let below = d.map(|x| x < 0.0);
+            let mut edges = [0usize; 2];
+            let mut points = [Point3::origin(); 2];
+            let mut found = 0;
+            for e in 0..3 {
+                let e1 = (e + 1) % 3;
+                if below[e] != below[e1] && found < 2 {
+                    // Computed from the lower vertex id so both faces get the same point.
+                    let (a, b) = if tri[e] < tri[e1] { (e, e1) } else { (e1, e) };
+                    let t = d[a] / (d[a] - d[b]);
+                    let (pa, pb) = (positions[tri[a] as usize], positions[tri[b] as usize]);
+                    points[found] = pa + (pb - pa) * t;
+                    edges[found] = e;
+                    found += 1;
+                }
+            }
+            // Zero-length segments (a plane through a vertex) are kept for the chaining,
+            // which passes through them, and dropped from the passes below.
+            if found == 2 {
+                slot[f as usize] = segments.len() as u32;
+                segments.push(Segment {
+                    face: f,
+                    edges,
+                    points,
+                });
+            }
+        }
+        // The segment across end `j` of segment `i`, with the end it meets.
+        let next = |i: usize, j: usize| -> Option<(usize, usize)> {
+            let seg = &segments[i];
+            let g = adjacency.neighbours(seg.face as usize)[seg.edges[j]];
+            if g == NO_FACE || slot[g as usize] == NONE {
+                return None;
+            }
+            let other = slot[g as usize] as usize;
+            let back = adjacency.neighbours(g as usize);
+            (0..2)
+                .find(|&jj| back[segments[other].edges[jj]] == seg.face)
+                .map(|jj| (other, jj))
+        };
+        let mut visited = vec![false; segments.len()];
+        let mut pieces: Vec<ScanPass> = Vec::new();
+        // Open chains first (start at an end with no neighbour), then closed loops.
+        for round in 0..2 {
+            for first in 0..segments.len() {
+                if visited[first] {
+                    continue;
+                }
+                let entry = if round == 0 {
+                    match (0..2).find(|&j| next(first, j).is_none()) {
+                        Some(j) => j,
+                        None => continue,
+                    }
+                } else {
+                    0
+                };
+                let (mut i, mut j) = (first, entry);
+                let mut points = vec![segments[i].points[j]];
+                let mut faces = Vec::new();
+                // Each step visits a new segment, so the walk ends within segments.len() steps.
+                loop {
+                    visited[i] = true;
+                    let out = 1 - j;
+                    let p = segments[i].points[out];
+                    if points.last().is_some_and(|q| (p - q).norm() > min_length) {
+                        points.push(p);
+                        faces.push(segments[i].face);
+                    }
+                    match next(i, out) {
+                        Some((g, jj)) if !visited[g] => (i, j) = (g, jj),
+                        _ => break,
+                    }
+                }
+                if let (Some(a), Some(b)) = (points.first(), points.last()) {
+                    if (b - a).dot(&frame.travel) < 0.0 {
+                        points.reverse();
+                        faces.reverse();
+                    }
+                }
+                if faces.is_empty() {
+                    continue;
+                }
+                pieces.push(ScanPass {
+                    plane: k,
+                    points,
+                    faces,
+                });
+            }
+        }
+        for seg in &segments {
+            slot[seg.face as usize] = NONE;
+        }
+        pieces.sort_by(|a, b| {
+            let key = |p: &ScanPass| frame.travel.dot(&p.points[0].coords);
+            key(a).total_cmp(&key(b))
+        });
+        passes.extend(pieces);
+    }
+    passes
+}
+
+/// Zig-zag order: passes of every other non-empty plane run backwards, in reverse order.
+pub fn order_zigzag(passes: Vec<ScanPass>) -> Vec<ScanPass> {
+    let mut out = Vec::with_capacity(passes.len());
+    let mut i = 0;
+    let mut row = 0usize;
+    while i < passes.len() {
+        let plane = passes[i].plane;
+        let mut j = i;
+        while j < passes.len() && passes[j].plane == plane {
+            j += 1;
+        }
+        let group = &passes[i..j];
+        if row % 2 == 0 {
+            out.extend(group.iter().cloned());
+        } else {
+            out.extend(group.iter().rev().map(|p| {
+                let mut p = p.clone();
+                p.points.reverse();
+                p.faces.reverse();
+                p
+            }));
+        }
+        row += 1;
+        i = j;
+    }
+    out
+}

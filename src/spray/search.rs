@@ -1,0 +1,161 @@
+//! Spacing search: the largest pass spacing whose coating meets the quality limits.
+//!
+//! Source: spray patent (Tsinghua, Guan & Chen), step 7: if `E > E_m` or `δ > δ_m`, change
+//! `b` and repeat steps 2–6. The patent does not say how to change `b`.
+//! Input:  spacing bounds, limits, and a function evaluating one spacing.
+//! Output: the chosen spacing, whether it meets the limits, every spacing tried.
+//! Cost:   at most [`COARSE_STEPS`] + [`REFINE_ROUNDS`]·[`REFINE_STEPS`] evaluations.
+//! Deviations (no paper): quality is not monotone in `b` (the overlap of neighbouring
+//!         passes swings between ridges and troughs), so bisection could miss the answer:
+//!         a coarse scan of evenly spaced spacings finds the largest feasible one, then
+//!         rounds of finer scans between it and the next coarse spacing push it up. When no
+//!         spacing meets the limits, the one with the smallest `max(E/E_m, δ/δ_m)` is chosen.
+
+use super::params::SprayError;
+use super::quality::ThicknessStats;
+use crate::math::Real;
+
+/// Spacings of the coarse scan.
+pub const COARSE_STEPS: usize = 12;
+/// Rounds of refinement above the largest feasible coarse spacing.
+pub const REFINE_ROUNDS: usize = 3;
+/// Spacings tried per refinement round.
+pub const REFINE_STEPS: usize = 4;
+
+/// One spacing tried, with the interior figures it gave.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Iteration {
+    /// Pass spacing `b`.
+    pub spacing: Real,
+    /// Interior mean thickness.
+    pub mean: Real,
+    /// Interior standard deviation `E`.
+    pub std_dev: Real,
+    /// Interior error `δ`.
+    pub error: Real,
+    /// Whether both limits hold.
+    pub met: bool,
+}
+
+/// The limits `E_m`, `δ_m` (either may be absent).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// `E_m`.
+    pub max_std_dev: Option<Real>,
+    /// `δ_m`.
+    pub max_error: Option<Real>,
+}
+
+impl Limits {
+    /// Whether figures meet the limits.
+    pub fn met(&self, s: &ThicknessStats) -> bool {
+        self.max_std_dev.is_none_or(|e| s.std_dev <= e)
+            && self.max_error.is_none_or(|d| s.error <= d)
+    }
+
+    /// How far figures are from the limits: `max(E/E_m, δ/δ_m)` (≤ 1 when met).
+    pub fn excess(&self, s: &ThicknessStats) -> Real {
+        let e = self.max_std_dev.map_or(0.0, |e| s.std_dev / e);
+        let d = self.max_error.map_or(0.0, |d| s.error / d);
+        e.max(d)
+    }
+}
+
+/// Result of [`search_spacing`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpacingChoice {
+    /// The spacing chosen.
+    pub spacing: Real,
+    /// Whether it meets the limits.
+    pub met: bool,
+    /// Every spacing tried, in the order tried.
+    pub iterations: Vec<Iteration>,
+}
+
+/// Searches `[lo, hi]` for the largest spacing meeting `limits`; `evaluate(b)` returns the
+/// interior figures of spacing `b`; `progress(fraction)` is called after each evaluation.
+pub fn search_spacing(
+    lo: Real,
+    hi: Real,
+    limits: &Limits,
+    evaluate: &mut dyn FnMut(Real) -> Result<ThicknessStats, SprayError>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<SpacingChoice, SprayError> {
+    let total = (COARSE_STEPS + REFINE_ROUNDS * REFINE_STEPS) as f64;
+    let mut iterations: Vec<Iteration> = Vec::new();
+    let mut run = |b: Real, iterations: &mut Vec<Iteration>| -> Result<bool, SprayError> {
+        let s = evaluate(b)?;
+        let met = limits.met(&s);
+        iterations.push(Iteration {
+            spacing: b,
+            mean: s.mean,
+            std_dev: s.std_dev,
+            error: s.error,
+            met,
+        });
+        progress(iterations.len() as f64 / total);
+        Ok(met)
+    };
+    let coarse: Vec<Real> = if hi > lo {
+        (0..COARSE_STEPS)
+            .map(|i| lo + (hi - lo) * i as Real / (COARSE_STEPS - 1) as Real)
+            .collect()
+    } else {
+        vec![hi]
+    };
+    let mut best: Option<usize> = None;
+    for (i, &b) in coarse.iter().enumerate() {
+        if run(b, &mut iterations)? {
+            best = Some(i);
+        }
+    }
+    let Some(i) = best else {
+        let pick = iterations
+            .iter()
+            .min_by(|a, b| {
+                let ea = limits.excess(&ThicknessStats {
+                    std_dev: a.std_dev,
+                    error: a.error,
+                    ..Default::default()
+                });
+                let eb = limits.excess(&ThicknessStats {
+                    std_dev: b.std_dev,
+                    error: b.error,
+                    ..Default::default()
+                });
+                ea.total_cmp(&eb)
+            })
+            .map_or(hi, |it| it.spacing);
+        return Ok(SpacingChoice {
+            spacing: pick,
+            met: false,
+            iterations,
+        });
+    };
+    let mut feasible = coarse[i];
+    if i + 1 < coarse.len() {
+        let mut upper = coarse[i + 1];
+        for _ in 0..REFINE_ROUNDS {
+            let step = (upper - feasible) / (REFINE_STEPS + 1) as Real;
+            let mut new_upper = feasible + step;
+            let mut found = None;
+            for m in 1..=REFINE_STEPS {
+                let b = feasible + step * m as Real;
+                if run(b, &mut iterations)? {
+                    found = Some(b);
+                    new_upper = b + step;
+                }
+            }
+            if let Some(b) = found {
+                feasible = b;
+            }
+            upper = new_upper;
+        }
+    }
+    Ok(SpacingChoice {
+        spacing: feasible,
+        met: true,
+        iterations,
+    })
+}

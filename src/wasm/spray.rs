@@ -1,0 +1,211 @@
+//! `SprayPlan`: the result of `Mesh.planSpray` (JavaScript must call `free()`).
+
+use crate::spray::SprayParams;
+use crate::toolpath::{to_csv, to_json, to_krl, to_rapid, ExportOptions};
+use wasm_bindgen::prelude::*;
+
+#[wasm_bindgen(typescript_custom_section)]
+const SPRAY_TYPES: &str = r#"
+/** Quality limits of the spacing search: stdDev and error of the interior thickness. */
+export interface SprayQualityLimits { maxStdDev?: number; maxError?: number; minSpacing?: number; maxSpacing?: number }
+/** Spray planning parameters: lengths in the file's unit, angles in rad, times in s,
+ *  flowRate in (file unit)³/s. Defaults: efficiency 0.6, rasterAngle 0, extension R,
+ *  timeStep R/(20·speed), resolution R/8, edgeExclusion R, with R = standoff·tan(coneAngle/2). */
+export interface SprayPlanParams {
+  spacing: number; standoff: number; speed: number; flowRate: number; coneAngle: number;
+  transitionAngle: number; efficiency?: number; direction?: [number, number, number];
+  rasterAngle?: number; extension?: number; timeStep?: number; resolution?: number;
+  edgeExclusion?: number; quality?: SprayQualityLimits; targetThickness?: number;
+}
+/** Thickness figures (file unit; error = max |T − mean| / mean; area in the unit's square). */
+export interface ThicknessStats { mean: number; stdDev: number; error: number; min: number; max: number; area: number }
+/** Figures over the interior (edgeExclusion from the boundary) and the whole patch;
+ *  limitsMet false and a message when no spacing met the quality limits. */
+export interface SprayQuality { interior: ThicknessStats; whole: ThicknessStats; limitsMet: boolean; messages: string[] }
+/** One spacing tried by the search, with its interior figures. */
+export interface SprayIteration { spacing: number; mean: number; stdDev: number; error: number; met: boolean }
+/** Robot-program options: millimetres per file unit (default 1), program name, moves per file. */
+export interface ExportOptions { mmPerUnit?: number; name?: string; maxMoves?: number }
+"#;
+
+/// Reads `SprayPlanParams` from JavaScript; unknown keys (usually typos) are refused.
+pub(crate) fn spray_params_from_js(value: JsValue) -> Result<SprayParams, JsError> {
+    serde_wasm_bindgen::from_value(value)
+        .map_err(|e| JsError::new(&format!("invalid spray parameters: {e}")))
+}
+
+/// `{ mmPerUnit?, name?, maxMoves? }` as JavaScript spells it.
+#[derive(serde::Deserialize, Default)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+struct ExportOptionsSpec {
+    mm_per_unit: Option<f64>,
+    name: Option<String>,
+    max_moves: Option<usize>,
+}
+
+fn export_options_from_js(value: JsValue) -> Result<ExportOptions, JsError> {
+    let spec: ExportOptionsSpec = if value.is_undefined() || value.is_null() {
+        ExportOptionsSpec::default()
+    } else {
+        serde_wasm_bindgen::from_value(value)
+            .map_err(|e| JsError::new(&format!("invalid export options: {e}")))?
+    };
+    let mut options = ExportOptions::default();
+    if let Some(mm) = spec.mm_per_unit {
+        options.mm_per_unit = mm;
+    }
+    if let Some(name) = spec.name {
+        options.name = name;
+    }
+    options.max_moves = spec.max_moves;
+    Ok(options)
+}
+
+#[derive(serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+struct QualityView<'a> {
+    interior: crate::spray::ThicknessStats,
+    whole: crate::spray::ThicknessStats,
+    limits_met: bool,
+    messages: &'a [String],
+}
+
+/// A planned spray job: trajectory, evaluation samples with thickness, quality, iterations.
+#[wasm_bindgen]
+pub struct SprayPlan {
+    inner: crate::spray::SprayPlan,
+}
+
+impl SprayPlan {
+    pub(crate) fn new(inner: crate::spray::SprayPlan) -> Self {
+        SprayPlan { inner }
+    }
+}
+
+#[wasm_bindgen]
+impl SprayPlan {
+    /// Pass spacing used, file unit.
+    #[wasm_bindgen(getter)]
+    pub fn spacing(&self) -> f64 {
+        self.inner.spacing
+    }
+
+    /// Gun speed used, file unit per second (scaled when targetThickness was given).
+    #[wasm_bindgen(getter)]
+    pub fn speed(&self) -> f64 {
+        self.inner.speed
+    }
+
+    /// Number of passes.
+    #[wasm_bindgen(getter, js_name = passCount)]
+    pub fn pass_count(&self) -> u32 {
+        self.inner.pass_count as u32
+    }
+
+    /// 6 numbers per point: x y z, then the unit gun axis (towards the part).
+    pub fn trajectory(&self) -> Vec<f64> {
+        let poses = &self.inner.path.poses;
+        let mut out = Vec::with_capacity(6 * poses.len());
+        for p in poses {
+            out.extend_from_slice(&[
+                p.position.x,
+                p.position.y,
+                p.position.z,
+                p.axis.x,
+                p.axis.y,
+                p.axis.z,
+            ]);
+        }
+        out
+    }
+
+    /// Kind per point: 0 pass, 1 straight transition, 2 arc, 3 extension, 4 link (gun off).
+    #[wasm_bindgen(js_name = pointKinds)]
+    pub fn point_kinds(&self) -> Vec<u8> {
+        self.inner
+            .path
+            .poses
+            .iter()
+            .map(|p| p.kind.code())
+            .collect()
+    }
+
+    /// Pass index per point.
+    #[wasm_bindgen(js_name = passOf)]
+    pub fn pass_of(&self) -> Vec<u32> {
+        self.inner.path.poses.iter().map(|p| p.pass).collect()
+    }
+
+    /// Evaluation points, flat xyz.
+    #[wasm_bindgen(js_name = samplePositions)]
+    pub fn sample_positions(&self) -> Vec<f32> {
+        let s = &self.inner.samples.positions;
+        let mut out = Vec::with_capacity(3 * s.len());
+        for p in s {
+            out.extend_from_slice(&[p.x as f32, p.y as f32, p.z as f32]);
+        }
+        out
+    }
+
+    /// Thickness per evaluation point, file unit.
+    #[wasm_bindgen(js_name = sampleThickness)]
+    pub fn sample_thickness(&self) -> Vec<f32> {
+        self.inner.thickness.iter().map(|&t| t as f32).collect()
+    }
+
+    /// Display mesh over the evaluation points, 3 indices per triangle.
+    #[wasm_bindgen(js_name = sampleTriangles)]
+    pub fn sample_triangles(&self) -> Vec<u32> {
+        self.inner.samples.triangles.as_flattened().to_vec()
+    }
+
+    /// `{ interior, whole, limitsMet, messages }`.
+    #[wasm_bindgen(unchecked_return_type = "SprayQuality")]
+    pub fn quality(&self) -> Result<JsValue, JsError> {
+        let view = QualityView {
+            interior: self.inner.quality.interior,
+            whole: self.inner.quality.whole,
+            limits_met: self.inner.limits_met,
+            messages: &self.inner.messages,
+        };
+        Ok(serde_wasm_bindgen::to_value(&view)?)
+    }
+
+    /// Every spacing tried: `{ spacing, mean, stdDev, error, met }[]`.
+    #[wasm_bindgen(unchecked_return_type = "SprayIteration[]")]
+    pub fn iterations(&self) -> Result<JsValue, JsError> {
+        Ok(serde_wasm_bindgen::to_value(&self.inner.iterations)?)
+    }
+
+    /// The trajectory as CSV.
+    #[wasm_bindgen(js_name = toCsv)]
+    pub fn to_csv(&self) -> Result<String, JsError> {
+        Ok(to_csv(&self.inner.path, &ExportOptions::default())?)
+    }
+
+    /// The trajectory as JSON.
+    #[wasm_bindgen(js_name = toJson)]
+    pub fn to_json(&self) -> Result<String, JsError> {
+        Ok(to_json(&self.inner.path, &ExportOptions::default())?)
+    }
+
+    /// ABB RAPID modules, one string per file (main module first).
+    #[wasm_bindgen(js_name = toRapid)]
+    pub fn to_rapid(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
+    ) -> Result<Vec<String>, JsError> {
+        let options = export_options_from_js(opts)?;
+        Ok(to_rapid(&self.inner.path, &options)?)
+    }
+
+    /// KUKA KRL `.src` files, one string per file (main program first).
+    #[wasm_bindgen(js_name = toKrl)]
+    pub fn to_krl(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
+    ) -> Result<Vec<String>, JsError> {
+        let options = export_options_from_js(opts)?;
+        Ok(to_krl(&self.inner.path, &options)?)
+    }
+}

@@ -1,0 +1,741 @@
+// Spray tool (seed 002): plans the gun trajectory over a patch (or the whole mesh), predicts
+// the coating thickness, searches the widest pass spacing that meets the quality limits,
+// draws the path and the thickness heat map, and exports CSV, JSON, ABB RAPID and KUKA KRL.
+// Process values are typed in a painter's units (mm, mm/s, cm³/min, °, µm) whatever the
+// file's unit; they are converted here, and the worker (worker/spray.js) gets file units.
+import { CancelledError } from '../app/engine.js';
+import { download, fileStem } from '../app/download.js';
+import { fieldText, integer, num } from '../app/format.js';
+import { persistSettings } from '../app/settings.js';
+
+const P = 'spray.'; // settings key prefix
+
+/** A painter's defaults: HVLP-like gun at 250 mm, 40° cone, 400 mm/s, 150 cm³/min, 60 % transfer. */
+const FIELDS = [
+  // key, label, unit, default, min, max (exclusive bounds are checked by the core too), group
+  { key: 'standoff', label: 'Standoff h', unit: 'mm', value: 250, min: 0, group: 'gun', title: 'Distance from the gun to the surface along the gun axis' },
+  { key: 'coneAngle', label: 'Cone angle α', unit: '°', value: 40, min: 0, max: 180, group: 'gun', title: 'Full opening angle of the spray cone' },
+  { key: 'speed', label: 'Gun speed v', unit: 'mm/s', value: 400, min: 0, group: 'gun' },
+  { key: 'flowRate', label: 'Paint flow Q', unit: 'cm³/min', value: 150, min: 0, group: 'gun' },
+  { key: 'efficiency', label: 'Transfer efficiency η', unit: '', value: 0.6, min: 0, max: 1, group: 'gun', title: 'Share of the paint that lands on the part (0–1)' },
+  { key: 'spacing', label: 'Pass spacing b', unit: 'mm', value: 100, min: 0, group: 'path', title: 'Distance between neighbouring passes; with quality limits, where the search starts' },
+  { key: 'transitionAngle', label: 'Arc above fold angle β_T', unit: '°', value: 20, min: 0, max: 180, group: 'path', title: 'Across a fold sharper than this the gun turns on an arc around the edge' },
+  { key: 'rasterAngle', label: 'Pass direction turned by', unit: '°', value: 0, min: -180, max: 180, group: 'path', title: 'Passes run along the longest extent of the patch; this turns them about its mean normal' },
+  { key: 'maxError', label: 'Max. error δ_m', unit: '%', value: 15, min: 0, group: 'quality', title: 'Largest allowed |T − mean| / mean inside the patch' },
+  { key: 'maxStdDev', label: 'Max. std. deviation E_m', unit: 'µm', value: 5, min: 0, group: 'quality' },
+  { key: 'target', label: 'Target thickness', unit: 'µm', value: 40, min: 0, group: 'target' },
+  { key: 'tolerance', label: 'Tolerance ±', unit: 'µm', value: 10, min: 0, group: 'target' },
+];
+const FLAGS = [
+  { key: 'search', label: 'Search the widest spacing that meets the limits', value: true, group: 'quality' },
+  { key: 'scaleSpeed', label: 'Set the gun speed so the mean reaches the target', value: true, group: 'target' },
+  { key: 'showPath', label: 'Path', value: true, group: 'display' },
+  { key: 'showAxis', label: 'Gun axis', value: false, group: 'display' },
+  { key: 'showHeat', label: 'Thickness', value: true, group: 'display' },
+];
+const DEFAULTS = Object.freeze(Object.fromEntries([
+  ...FIELDS.map((f) => [P + f.key, f.value]),
+  ...FLAGS.map((f) => [P + f.key, f.value]),
+  [`${P}colors`, 'thickness'],
+  [`${P}scope`, 'patch'],
+]));
+
+/** Trajectory point kinds (SprayPlan.pointKinds) and their colours on the path. */
+const KINDS = [
+  { name: 'pass', label: 'Pass (gun on)', color: '#1d232a' },
+  { name: 'straight', label: 'Straight transition', color: '#E69F00' },
+  { name: 'arc', label: 'Arc over a fold', color: '#CC79A7' },
+  { name: 'extension', label: 'Extension past the edge', color: '#56B4E9' },
+  { name: 'link', label: 'Link (gun off)', color: '#6b7480', dashed: true },
+];
+const EXTENSION = 3; // kinds 0–3 have the gun on
+const LINK = 4;
+/** Thickness classes against target ± tolerance (Okabe & Ito colours). */
+const CLASSES = [
+  { name: 'under', label: 'Under', color: '#0072B2' },
+  { name: 'in', label: 'In tolerance', color: '#009E73' },
+  { name: 'over', label: 'Over', color: '#D55E00' },
+];
+/** Viridis, sampled at 9 stops (van der Walt & Smith, CC0): perceptually even, colour-blind safe. */
+const VIRIDIS = ['#440154', '#472d7b', '#3b528b', '#2c728e', '#21918c', '#28ae80', '#5ec962', '#addc30', '#fde725'];
+/** About this many evaluation points at most: beyond, the worker coarsens the resolution. */
+const MAX_SAMPLES = 100_000;
+/** About this many deposition time steps at most (see #coreParams). */
+const MAX_TIME_SAMPLES = 1_500_000;
+/** Plans with more passes open with the path hidden (their lines would cover the heat map). */
+const MAX_PASSES_SHOWN = 120;
+/** At most this many gun-axis ticks are drawn. */
+const MAX_TICKS = 1500;
+
+const $ = (id) => document.getElementById(id);
+
+function hexRgb(hex) {
+  const n = parseInt(hex.slice(1), 16);
+  return [(n >> 16) & 255, (n >> 8) & 255, n & 255];
+}
+
+/** Viridis colour of t in [0, 1] as [r, g, b] bytes. */
+export function viridis(t) {
+  const x = Math.min(Math.max(Number.isFinite(t) ? t : 0, 0), 1) * (VIRIDIS.length - 1);
+  const i = Math.min(Math.floor(x), VIRIDIS.length - 2);
+  const f = x - i;
+  const a = hexRgb(VIRIDIS[i]);
+  const b = hexRgb(VIRIDIS[i + 1]);
+  return [0, 1, 2].map((k) => Math.round(a[k] + (b[k] - a[k]) * f));
+}
+
+function fieldRow(f, prefix) {
+  const title = f.title ? ` title="${f.title}"` : '';
+  return `<label class="field"${title}><span>${f.label.replace(/_(\w)/, '<sub>$1</sub>')}</span>` +
+    `<input type="number" name="${f.key}" id="${prefix}${f.key}" step="any" inputmode="decimal" aria-describedby="spray-error">` +
+    `<span class="unit">${f.unit}</span></label>`;
+}
+function flagRow(f, prefix) {
+  return `<label class="check"><input type="checkbox" name="${f.key}" id="${prefix}${f.key}"> ${f.label}</label>`;
+}
+const group = (g) => FIELDS.filter((f) => f.group === g).map((f) => fieldRow(f, 'spray-')).join('') +
+  FLAGS.filter((f) => f.group === g).map((f) => flagRow(f, 'spray-')).join('');
+
+const PANEL = `
+  <h2 id="spray-heading">Spray trajectory</h2>
+  <form id="spray-form" novalidate>
+    <fieldset class="spray-scope">
+      <legend>Spray</legend>
+      <label><input type="radio" name="scope" value="patch"> <span id="spray-patch-label">the selected patch</span></label>
+      <label><input type="radio" name="scope" value="mesh"> the whole mesh</label>
+      <p class="hint" id="spray-scope-hint">Click a patch in the view or the list to choose it.</p>
+    </fieldset>
+    <fieldset><legend>Gun and paint</legend>${group('gun')}</fieldset>
+    <fieldset><legend>Passes</legend>${group('path')}</fieldset>
+    <fieldset><legend>Quality limits (inside the patch, away from its edge)</legend>${group('quality')}</fieldset>
+    <fieldset><legend>Coating target</legend>${group('target')}</fieldset>
+    <p id="spray-error" class="field-error" aria-live="polite"></p>
+    <div class="form-actions">
+      <button type="submit" id="spray-plan-button" class="primary">Plan spray</button>
+      <button type="button" id="spray-defaults-button">Painter's defaults</button>
+    </div>
+  </form>`;
+
+const RESULTS = `
+  <section aria-labelledby="spray-results-heading">
+    <h2 id="spray-results-heading">Spray plan</h2>
+    <p id="spray-summary" class="summary">No plan yet: choose a patch and press <strong>Plan spray</strong>.</p>
+    <div id="spray-figures" hidden>
+      <table class="quality-table" id="spray-quality">
+        <thead><tr><th scope="col">Coating</th><th scope="col" title="Without a band of one spray radius along the edge, where specifications do not measure">Interior</th><th scope="col">Whole patch</th></tr></thead>
+        <tbody></tbody>
+      </table>
+      <p id="spray-verdict" class="verdict"></p>
+      <ul id="spray-notes" class="warnings" aria-label="Planner remarks"></ul>
+      <div class="chart-wrap"><svg id="spray-chart" role="img" aria-label="Error and standard deviation against pass spacing"></svg></div>
+      <fieldset class="display-options"><legend>Show</legend>${group('display')}
+        <label class="check">Colours <select id="spray-colors" name="colors">
+          <option value="thickness">thickness (µm)</option><option value="classes">under / in / over target</option></select></label>
+      </fieldset>
+    </div>
+  </section>
+  <section aria-labelledby="spray-export-heading">
+    <h2 id="spray-export-heading">Export the program</h2>
+    <div class="export-buttons">
+      <button type="button" data-format="rapid" disabled title="ABB RAPID module(s), positions in mm; several files come in one ZIP">ABB RAPID</button>
+      <button type="button" data-format="krl" disabled title="KUKA KRL .src file(s), positions in mm; several files come in one ZIP">KUKA KRL</button>
+      <button type="button" data-format="csv" disabled title="One row per trajectory point: position, gun axis, kind, pass">Trajectory · CSV</button>
+      <button type="button" data-format="json" disabled title="The trajectory, parameters and quality figures">Trajectory · JSON</button>
+    </div>
+  </section>`;
+
+class SprayTool {
+  id = 'spray';
+  title = 'Spray';
+  settings = {
+    order: 2,
+    defaults: DEFAULTS,
+    allowed: { [`${P}colors`]: ['thickness', 'classes'], [`${P}scope`]: ['patch', 'mesh'] },
+    hashKeys: () => Object.keys(DEFAULTS),
+  };
+
+  #shell;
+  #form;
+  #results;
+  #overlay;
+  #plan = null; // { result, params, request, patchId, unit } of the plan on screen
+  #target = null; // patch id the next plan sprays (selection, else the largest patch)
+
+  mount(shell, { panel, results, overlay }) {
+    this.#shell = shell;
+    panel.innerHTML = PANEL;
+    panel.setAttribute('aria-labelledby', 'spray-heading');
+    results.innerHTML = RESULTS;
+    this.#results = results;
+    this.#overlay = overlay;
+    this.#form = panel.querySelector('#spray-form');
+    this.#wire();
+    this.#renderForm();
+  }
+
+  get #s() {
+    return this.#shell.state.settings;
+  }
+
+  // ---------------------------------------------------------------- form
+
+  #renderForm() {
+    const s = this.#s;
+    for (const f of FIELDS) {
+      const el = $(`spray-${f.key}`);
+      el.value = fieldText(s[P + f.key], 8);
+    }
+    for (const f of FLAGS) $(`spray-${f.key}`).checked = s[P + f.key];
+    for (const radio of this.#form.elements.scope) radio.checked = radio.value === s[`${P}scope`];
+    $('spray-colors').value = s[`${P}colors`];
+    this.#validate();
+  }
+
+  /** Reads the form: { values } in the painter's units, or { error } with bad fields marked. */
+  #read() {
+    const values = {};
+    let error = null;
+    for (const f of FIELDS) {
+      const el = $(`spray-${f.key}`);
+      const v = el.value.trim() === '' ? NaN : Number(el.value);
+      let problem = null;
+      if (!Number.isFinite(v)) problem = `Enter a number for the ${f.label.toLowerCase()}.`;
+      else if (f.key === 'rasterAngle' ? v < f.min || v > f.max : v <= f.min || (f.max !== undefined && v > f.max)) {
+        problem = f.key === 'rasterAngle'
+          ? `The pass direction turn must be between ${f.min}° and ${f.max}°.`
+          : `The ${f.label.toLowerCase()} must be above ${f.min}${f.max !== undefined ? ` and at most ${f.max}` : ''} ${f.unit}.`;
+      }
+      if (f.key === 'coneAngle' && v >= 180) problem = 'The cone angle must be below 180°.';
+      el.setAttribute('aria-invalid', String(Boolean(problem)));
+      if (problem) error ??= problem.replace(/ +\./, '.');
+      else values[f.key] = v;
+    }
+    for (const f of FLAGS) values[f.key] = $(`spray-${f.key}`).checked;
+    values.scope = this.#form.elements.scope.value || 'patch';
+    values.colors = $('spray-colors').value;
+    return error ? { error, values } : { values };
+  }
+
+  #validate() {
+    const result = this.#read();
+    const noTarget = result.values.scope === 'patch' && this.#target === null;
+    $('spray-error').textContent = result.error ?? '';
+    $('spray-plan-button').disabled = Boolean(result.error) || !this.#shell.state.model || noTarget;
+    return result;
+  }
+
+  #save() {
+    const { values } = this.#read();
+    for (const [k, v] of Object.entries(values)) {
+      if (`${P}${k}` in DEFAULTS) this.#s[P + k] = v;
+    }
+    persistSettings(this.#s);
+  }
+
+  /**
+   * The core's parameter object, in the file's units: lengths / mmPerUnit, flow cm³/min →
+   * (file unit)³/s, angles in rad, thicknesses µm → file unit.
+   */
+  #coreParams(v, areaFileUnits) {
+    const mm = this.#shell.mmPerUnit;
+    const rad = (deg) => (deg * Math.PI) / 180;
+    const params = {
+      spacing: v.spacing / mm,
+      standoff: v.standoff / mm,
+      speed: v.speed / mm,
+      flowRate: (v.flowRate * 1000) / 60 / mm ** 3,
+      coneAngle: rad(v.coneAngle),
+      transitionAngle: rad(v.transitionAngle),
+      efficiency: v.efficiency,
+      rasterAngle: rad(v.rasterAngle),
+    };
+    if (v.search) params.quality = { maxStdDev: v.maxStdDev / 1000 / mm, maxError: v.maxError / 100 };
+    if (v.scaleSpeed) params.targetThickness = v.target / 1000 / mm;
+    // The core's default time step moves the gun R/20 a step; on very large patches a longer
+    // step keeps the deposition within MAX_TIME_SAMPLES at the narrowest spacing searched
+    // (R/4, the core's default lower bound).
+    const radius = params.standoff * Math.tan(params.coneAngle / 2);
+    const narrowest = v.search ? Math.min(radius / 4, params.spacing) : params.spacing;
+    const step = Math.max(radius / 20, areaFileUnits / narrowest / MAX_TIME_SAMPLES);
+    if (step > radius / 20) params.timeStep = step / params.speed;
+    return params;
+  }
+
+  // ---------------------------------------------------------------- target patch
+
+  #chooseTarget() {
+    const { segmentation, selected } = this.#shell.state;
+    const patches = segmentation?.patches ?? [];
+    if (selected !== null) this.#target = selected;
+    else if (patches.length) this.#target = patches.reduce((a, b) => (b.area > a.area ? b : a)).id;
+    else this.#target = null;
+    this.#renderTarget();
+  }
+
+  #renderTarget() {
+    const shell = this.#shell;
+    const label = $('spray-patch-label');
+    const hint = $('spray-scope-hint');
+    if (this.#target === null) {
+      label.textContent = 'a patch (none yet)';
+      hint.textContent = shell.state.segmentation ? 'No patch was kept: plan on the whole mesh, or segment again.' : 'Segment the model, or plan on the whole mesh.';
+    } else {
+      const p = shell.patch(this.#target);
+      const largest = shell.state.selected === null;
+      label.textContent = `patch ${this.#target}${largest ? ' (the largest)' : ''} · ${num(p.area, 3)} ${shell.unitOf.area()}`;
+      hint.textContent = 'Click a patch in the view or the list to choose another.';
+    }
+    this.#validate();
+  }
+
+  // ---------------------------------------------------------------- shell hooks
+
+  onModelLoaded() {
+    this.#clearPlan();
+  }
+
+  onSegmentation() {
+    this.#clearPlan(); // patch ids may have changed
+    this.#chooseTarget();
+  }
+
+  onSelectionChanged() {
+    this.#chooseTarget();
+  }
+
+  onUnitsChanged({ unitChanged }) {
+    if (unitChanged && this.#plan) this.#clearPlan('The file unit changed: plan again.');
+    else if (this.#plan) this.#renderResults();
+    if (this.#shell.state.model) this.#renderTarget();
+  }
+
+  onSettingsChanged() {
+    this.#renderForm();
+  }
+
+  onActivate() {
+    this.#showLayers(true);
+    this.#validate();
+  }
+
+  onDeactivate() {
+    this.#showLayers(false);
+  }
+
+  onEngineLost() {
+    // The plan stays on screen; exports re-plan with the same input when the worker lost it.
+  }
+
+  // ---------------------------------------------------------------- planning
+
+  #planRequest() {
+    const read = this.#validate();
+    if (read.error) return null;
+    const shell = this.#shell;
+    const v = read.values;
+    const patchId = v.scope === 'patch' ? this.#target : null;
+    if (v.scope === 'patch' && patchId === null) return null;
+    const area = patchId === null ? shell.state.model.report.area : shell.patch(patchId).area;
+    return { values: v, patchId, params: this.#coreParams(v, area) };
+  }
+
+  plan() {
+    const shell = this.#shell;
+    const request = this.#planRequest();
+    if (!request) return;
+    this.#save();
+    const what = request.patchId === null ? 'the whole mesh' : `patch ${request.patchId}`;
+    shell.enqueue(`Planning the spray on ${what}`, async (progress, checkpoint) => {
+      shell.hideAlert();
+      let result;
+      try {
+        await shell.restoreEngine(progress, checkpoint);
+        result = await shell.engine.request('spray.plan',
+          { params: request.params, patchId: request.patchId, sampleBudget: MAX_SAMPLES }, { onProgress: progress });
+      } catch (error) {
+        if (error instanceof CancelledError) throw error;
+        throw new Error(`The spray plan failed: ${error.message.replace(/\.?$/, '.')} ${this.#plan ? 'The plan on screen is unchanged.' : ''}`.trim());
+      }
+      progress('Drawing', null);
+      shell.showMemory(result.memoryBytes);
+      // Hundreds of passes would hide the heat map under their lines: start with the path
+      // off then (for this plan only; the saved setting is the user's).
+      if (result.passCount > MAX_PASSES_SHOWN) $('spray-showPath').checked = false;
+      // Exports re-plan with exactly these parameters when the worker lost the plan.
+      request.params = { ...request.params, resolution: result.resolution };
+      this.#plan = { result, request, unit: shell.state.settings.unit, model: shell.state.model.name };
+      this.#drawLayers();
+      this.#renderResults();
+      // Look at the sprayed side: a patch under a wing is otherwise out of sight.
+      if (request.patchId !== null && shell.patch(request.patchId)) shell.viewer.fitPatch(request.patchId, shell.patch(request.patchId).normal);
+      document.body.dataset.sprayPlans = String(Number(document.body.dataset.sprayPlans ?? 0) + 1);
+      shell.setStatus(`Spray on ${what}: ${result.passCount} passes at ${num(result.spacing * shell.mmPerUnit, 3)} mm, ` +
+        `planned in ${num(result.timings.planMs / 1000, 2)} s.`);
+    });
+  }
+
+  #clearPlan(message) {
+    this.#plan = null;
+    for (const layer of ['path', 'links', 'axis', 'heat']) this.#shell.viewer?.removeLayer(`spray.${layer}`);
+    if (this.#results) {
+      $('spray-figures').hidden = true;
+      $('spray-summary').textContent = message ?? 'No plan yet: choose a patch and press Plan spray.';
+      for (const b of this.#results.querySelectorAll('[data-format]')) b.disabled = true;
+      this.#overlay.replaceChildren();
+      this.#overlay.hidden = true;
+    }
+    if (this.#shell.engine?.started) this.#shell.engine.request('spray.drop').catch(() => {});
+  }
+
+  // ---------------------------------------------------------------- drawing
+
+  /** µm per file unit of thickness. */
+  get #umPerUnit() {
+    return this.#shell.mmPerUnit * 1000;
+  }
+
+  #drawLayers() {
+    const viewer = this.#shell.viewer;
+    const { result, request } = this.#plan;
+    const { trajectory, kinds } = result;
+    const n = kinds.length;
+    // Segments between consecutive points take the kind of the point they move to (as a
+    // robot move does): moves to link points have the gun off and are dashed.
+    let on = 0;
+    let off = 0;
+    const isOff = (i) => !(kinds[i + 1] <= EXTENSION);
+    for (let i = 0; i + 1 < n; i++) (isOff(i) ? off++ : on++);
+    const pathPos = new Float32Array(6 * on);
+    const pathCol = new Uint8Array(6 * on);
+    const linkPos = new Float32Array(6 * off);
+    const rgb = KINDS.map((k) => hexRgb(k.color));
+    for (let i = 0, a = 0, b = 0; i + 1 < n; i++) {
+      const p = [trajectory[6 * i], trajectory[6 * i + 1], trajectory[6 * i + 2],
+        trajectory[6 * i + 6], trajectory[6 * i + 7], trajectory[6 * i + 8]];
+      if (isOff(i)) {
+        linkPos.set(p, 6 * b++);
+      } else {
+        pathPos.set(p, 6 * a);
+        const c = rgb[kinds[i + 1]] ?? rgb[0];
+        pathCol.set([...c, ...c], 6 * a++);
+      }
+    }
+    viewer.setLayer('spray.path', { kind: 'lines', positions: pathPos, colors: pathCol });
+    viewer.setLayer('spray.links', { kind: 'lines', positions: linkPos, color: KINDS[LINK].color, dashed: true,
+      dashSize: request.params.spacing / 4 });
+    // Gun axis: from the gun along the axis, one standoff long (ends on the surface).
+    const every = Math.max(1, Math.ceil(n / MAX_TICKS));
+    const ticks = [];
+    const h = request.params.standoff;
+    for (let i = 0; i < n; i += every) {
+      if (kinds[i] === LINK) continue;
+      const o = 6 * i;
+      ticks.push(trajectory[o], trajectory[o + 1], trajectory[o + 2],
+        trajectory[o] + h * trajectory[o + 3], trajectory[o + 1] + h * trajectory[o + 4], trajectory[o + 2] + h * trajectory[o + 5]);
+    }
+    viewer.setLayer('spray.axis', { kind: 'lines', positions: Float32Array.from(ticks), color: '#8a6d00' });
+    this.#drawHeat();
+    this.#showLayers(this.#shell.activeTool === this);
+  }
+
+  #drawHeat() {
+    const { result } = this.#plan;
+    const v = this.#read().values;
+    const um = this.#umPerUnit;
+    const t = result.sampleThickness;
+    const colors = new Uint8Array(3 * t.length);
+    const { lo, hi } = this.#heatRange();
+    const classRgb = CLASSES.map((c) => hexRgb(c.color));
+    for (let i = 0; i < t.length; i++) {
+      const x = t[i] * um;
+      const c = v.colors === 'classes'
+        ? classRgb[x < v.target - v.tolerance ? 0 : x > v.target + v.tolerance ? 2 : 1]
+        : viridis(hi > lo ? (x - lo) / (hi - lo) : 0.5);
+      colors[3 * i] = c[0];
+      colors[3 * i + 1] = c[1];
+      colors[3 * i + 2] = c[2];
+    }
+    this.#shell.viewer.setLayer('spray.heat', {
+      kind: 'surface', positions: result.samplePositions, indices: result.sampleTriangles, colors,
+    });
+  }
+
+  /** Colour scale range in µm: the whole patch's min to max. */
+  #heatRange() {
+    const q = this.#plan.result.quality.whole;
+    return { lo: q.min * this.#umPerUnit, hi: q.max * this.#umPerUnit };
+  }
+
+  #showLayers(visible) {
+    const v = this.#read().values;
+    const viewer = this.#shell.viewer;
+    if (!viewer) return;
+    viewer.setLayerVisible('spray.path', visible && v.showPath);
+    viewer.setLayerVisible('spray.links', visible && v.showPath);
+    viewer.setLayerVisible('spray.axis', visible && v.showAxis);
+    viewer.setLayerVisible('spray.heat', visible && v.showHeat);
+  }
+
+  // ---------------------------------------------------------------- figures
+
+  #renderResults() {
+    const shell = this.#shell;
+    const { result, request } = this.#plan;
+    const v = this.#read().values;
+    const mm = shell.mmPerUnit;
+    const um = this.#umPerUnit;
+    const what = request.patchId === null ? 'Whole mesh' : `Patch ${request.patchId}`;
+    let length = 0;
+    const tr = result.trajectory;
+    for (let i = 1; i < result.kinds.length; i++) {
+      length += Math.hypot(tr[6 * i] - tr[6 * i - 6], tr[6 * i + 1] - tr[6 * i - 5], tr[6 * i + 2] - tr[6 * i - 4]);
+    }
+    const lengthMm = length * mm;
+    const speedMm = result.speed * mm;
+    const seconds = lengthMm / speedMm;
+    $('spray-summary').textContent = `${what}: ${integer.format(result.passCount)} passes ${num(result.spacing * mm, 3)} mm apart, ` +
+      `gun at ${num(speedMm, 3)} mm/s` + (v.scaleSpeed && request.params.targetThickness ? ' (set for the target)' : '') +
+      `; path ${num(lengthMm / 1000, 3)} m, about ${timeText(seconds)} at that speed. ` +
+      (result.passCount > MAX_PASSES_SHOWN && !v.showPath ? 'The path is hidden so the thickness shows: tick Path below. ' : '') +
+      `Thickness evaluated every ${num(result.resolution * mm, 3)} mm` +
+      (result.coarsened ? ' (coarsened on this large patch to keep planning quick).' : '.');
+
+    const q = result.quality;
+    const rows = [
+      ['Mean thickness', (x) => `${num(x.mean * um, 3)} µm`, 'Area-weighted mean of the predicted dry-film thickness'],
+      ['Std. deviation E', (x) => `${num(x.stdDev * um, 3)} µm`, 'Area-weighted standard deviation of the thickness'],
+      ['Error δ', (x) => `${num(x.error * 100, 3)} %`, 'Largest |thickness − mean| / mean'],
+      ['Thinnest', (x) => `${num(x.min * um, 3)} µm`],
+      ['Thickest', (x) => `${num(x.max * um, 3)} µm`],
+      ['Area', (x) => `${num(x.area, 3)} ${shell.unitOf.area()}`],
+    ];
+    $('spray-quality').tBodies[0].replaceChildren(...rows.map(([label, f, title]) => {
+      const row = document.createElement('tr');
+      row.append(Object.assign(document.createElement('th'), { scope: 'row', textContent: label, title: title ?? '' }),
+        Object.assign(document.createElement('td'), { textContent: f(q.interior) }),
+        Object.assign(document.createElement('td'), { textContent: f(q.whole) }));
+      return row;
+    }));
+    const verdict = $('spray-verdict');
+    const chosen = result.iterations.find((it) => Math.abs(it.spacing - result.spacing) <= 1e-9 * result.spacing);
+    if (request.params.quality) {
+      const met = q.limitsMet ?? (chosen ? chosen.met : q.interior.error <= request.params.quality.maxError && q.interior.stdDev <= request.params.quality.maxStdDev);
+      verdict.className = `verdict ${met ? 'ok' : 'bad'}`;
+      verdict.textContent = met
+        ? `Meets the limits (δ ≤ ${num(v.maxError, 3)} %, E ≤ ${num(v.maxStdDev, 3)} µm) at the widest spacing found.`
+        : `No spacing tried meets the limits (δ ≤ ${num(v.maxError, 3)} %, E ≤ ${num(v.maxStdDev, 3)} µm); this is the best one. Try a smaller cone angle, a larger standoff or looser limits.`;
+    } else {
+      verdict.className = 'verdict';
+      verdict.textContent = 'Spacing as typed (no search).';
+    }
+    // The planner's own remarks (trimmed concave folds, …); those the page already says in
+    // the painter's units above (limits not met, speed scaled) are left out.
+    const notes = (q.messages ?? []).filter((m) => m && !/^(quality limits not met|speed scaled)/i.test(m));
+    $('spray-notes').replaceChildren(...notes.map((m) => Object.assign(document.createElement('li'), { textContent: m })));
+    // Classes against target ± tolerance, share of evaluation points.
+    const t = result.sampleThickness;
+    const counts = [0, 0, 0];
+    for (let i = 0; i < t.length; i++) {
+      const x = t[i] * um;
+      counts[x < v.target - v.tolerance ? 0 : x > v.target + v.tolerance ? 2 : 1]++;
+    }
+    this.#classShares = counts.map((c) => (t.length ? (100 * c) / t.length : 0));
+    renderChart($('spray-chart'), result.iterations, result.spacing, request.params.quality, mm, um);
+    $('spray-figures').hidden = false;
+    for (const b of this.#results.querySelectorAll('[data-format]')) b.disabled = false;
+    this.#renderLegend();
+  }
+
+  #classShares = [0, 0, 0];
+
+  /** The legend over the view: the colour scale in µm (or the classes) and the path kinds. */
+  #renderLegend() {
+    const v = this.#read().values;
+    const overlay = this.#overlay;
+    // Built through the DOM: the page's CSP forbids inline style attributes.
+    const el = (tag, className, text) => Object.assign(document.createElement(tag), { className: className ?? '', textContent: text ?? '' });
+    const swatch = (color, className = 'legend-swatch') => {
+      const span = el('span', className);
+      if (className === 'legend-swatch') span.style.backgroundColor = color;
+      else span.style.borderColor = color;
+      return span;
+    };
+    const nodes = [];
+    if (v.showHeat && this.#plan) {
+      const lowEdge = v.target - v.tolerance;
+      const highEdge = v.target + v.tolerance;
+      if (v.colors === 'classes') {
+        nodes.push(el('p', 'legend-title', 'Coating thickness, µm (share of evaluation points)'));
+        const list = el('ul', 'legend-list');
+        const ranges = [`below ${num(lowEdge, 3)}`, `${num(lowEdge, 3)}–${num(highEdge, 3)}`, `above ${num(highEdge, 3)}`];
+        CLASSES.forEach((c, i) => {
+          const li = el('li');
+          li.append(swatch(c.color), `${c.label}: ${ranges[i]} (${num(this.#classShares[i], 3)} %)`);
+          list.append(li);
+        });
+        nodes.push(list);
+      } else {
+        const { lo, hi } = this.#heatRange();
+        nodes.push(el('p', 'legend-title', 'Coating thickness, µm'));
+        const bar = el('div', 'legend-bar');
+        bar.style.backgroundImage = `linear-gradient(to right, ${VIRIDIS.map((c, i) => `${c} ${(100 * i) / (VIRIDIS.length - 1)}%`).join(', ')})`;
+        // Where target ± tolerance falls on the scale.
+        const pos = (x) => Math.min(100, Math.max(0, hi > lo ? (100 * (x - lo)) / (hi - lo) : 50));
+        const band = el('span', 'legend-band');
+        band.title = 'target ± tolerance';
+        band.style.left = `${pos(lowEdge)}%`;
+        band.style.width = `${Math.max(0, pos(highEdge) - pos(lowEdge))}%`;
+        bar.append(band);
+        const ticks = el('div', 'legend-ticks');
+        ticks.append(el('span', '', num(lo, 3)), el('span', '', num((lo + hi) / 2, 3)), el('span', '', num(hi, 3)));
+        const [under, inside, over] = this.#classShares;
+        nodes.push(bar, ticks, el('p', 'legend-note', `Bracket: target ${num(v.target, 3)} ± ${num(v.tolerance, 3)} µm. ` +
+          `Under ${num(under, 2)} %, in ${num(inside, 3)} %, over ${num(over, 2)} % of the points.`));
+      }
+    }
+    if (v.showPath && this.#plan) {
+      const list = el('ul', 'legend-list kinds');
+      for (const k of KINDS) {
+        const li = el('li');
+        li.append(swatch(k.color, `legend-line${k.dashed ? ' dashed' : ''}`), k.label);
+        list.append(li);
+      }
+      nodes.push(list);
+    }
+    overlay.replaceChildren(...nodes);
+    overlay.hidden = nodes.length === 0;
+  }
+
+  // ---------------------------------------------------------------- exports
+
+  #export(format) {
+    const shell = this.#shell;
+    const plan = this.#plan;
+    if (!plan) return;
+    const stem = fileStem(plan.model);
+    // Robot programs are in mm; the program is named after the model (a RAPID/KRL identifier).
+    // KRL allows 24 characters and the exporters append a part number (_12): keep 16.
+    const name = `sp_${stem.replace(/[^A-Za-z0-9_]/g, '_')}`.slice(0, 16).replace(/_+$/, '');
+    const options = { mmPerUnit: shell.mmPerUnit, name };
+    const replan = (progress) => shell.engine.request('spray.plan', { params: plan.request.params, patchId: plan.request.patchId },
+      { onProgress: progress });
+    shell.enqueue(`Writing the ${format.toUpperCase()} program`, async (progress, checkpoint) => {
+      // After Cancel or a failure the worker is new: give it the model and the plan again.
+      if (!shell.engine.hasMesh) {
+        await shell.restoreEngine(progress, checkpoint);
+        await replan(progress);
+      }
+      let out;
+      try {
+        out = await shell.engine.request('spray.exportPlan', { format, options, stem }, { onProgress: progress });
+      } catch (error) {
+        if (error.message !== 'NO_PLAN') throw new Error(`The ${format.toUpperCase()} export failed: ${error.message}`);
+        await replan(progress);
+        out = await shell.engine.request('spray.exportPlan', { format, options, stem }, { onProgress: progress });
+      }
+      const type = out.fileName.endsWith('.zip') ? 'application/zip' : out.fileName.endsWith('.json') ? 'application/json' : 'text/plain';
+      download(out.bytes, out.fileName, type);
+      shell.setStatus(`Saved ${out.fileName}${out.fileCount > 1 ? ` with ${out.fileCount} files` : ''}.`);
+    });
+  }
+
+  #wire() {
+    const form = this.#form;
+    form.addEventListener('submit', (event) => {
+      event.preventDefault();
+      this.plan();
+    });
+    form.addEventListener('input', () => {
+      const r = this.#validate();
+      if (!r.error) this.#save();
+    });
+    form.addEventListener('change', (event) => {
+      if (event.target.name === 'scope') this.#renderTarget();
+      if (this.#plan && ['target', 'tolerance'].includes(event.target.name)) {
+        this.#drawHeat();
+        this.#renderResults();
+        this.#showLayers(true);
+      }
+    });
+    $('spray-defaults-button').addEventListener('click', () => {
+      for (const f of FIELDS) this.#s[P + f.key] = f.value;
+      for (const f of FLAGS.filter((x) => x.group !== 'display')) this.#s[P + f.key] = f.value;
+      persistSettings(this.#s);
+      this.#renderForm();
+    });
+    const results = this.#results;
+    results.addEventListener('change', (event) => {
+      this.#save();
+      if (!this.#plan) return;
+      if (event.target.id === 'spray-colors') this.#drawHeat();
+      this.#showLayers(true);
+      this.#renderLegend();
+    });
+    for (const b of results.querySelectorAll('[data-format]')) b.addEventListener('click', () => this.#export(b.dataset.format));
+  }
+}
+
+function timeText(seconds) {
+  if (!Number.isFinite(seconds)) return '–';
+  if (seconds < 90) return `${Math.round(seconds)} s`;
+  if (seconds < 5400) return `${Math.round(seconds / 60)} min`;
+  return `${num(seconds / 3600, 2)} h`;
+}
+
+/**
+ * δ (%) and E (µm) against spacing (mm) from SprayPlan.iterations(): two lines on one chart
+ * with two y axes, dashed limit lines, met spacings as filled dots, the chosen one ringed.
+ */
+function renderChart(svg, iterations, chosen, limits, mm, um) {
+  const W = 380;
+  const H = 190;
+  const m = { l: 44, r: 44, t: 14, b: 34 };
+  const its = [...iterations].sort((a, b) => a.spacing - b.spacing);
+  svg.setAttribute('viewBox', `0 0 ${W} ${H}`);
+  if (its.length === 0) {
+    svg.innerHTML = '';
+    return;
+  }
+  const xs = its.map((it) => it.spacing * mm);
+  const ds = its.map((it) => it.error * 100);
+  const es = its.map((it) => it.stdDev * um);
+  const dLimit = limits ? limits.maxError * 100 : null;
+  const eLimit = limits ? limits.maxStdDev * um : null;
+  const xMin = Math.min(...xs);
+  const xMax = Math.max(...xs);
+  const dMax = Math.max(...ds, dLimit ?? 0) * 1.1 || 1;
+  const eMax = Math.max(...es, eLimit ?? 0) * 1.1 || 1;
+  const x = (v) => m.l + (xMax > xMin ? ((v - xMin) / (xMax - xMin)) * (W - m.l - m.r) : (W - m.l - m.r) / 2);
+  const yd = (v) => H - m.b - (v / dMax) * (H - m.t - m.b);
+  const ye = (v) => H - m.b - (v / eMax) * (H - m.t - m.b);
+  const line = (ys, f) => ys.map((v, i) => `${i ? 'L' : 'M'}${x(xs[i]).toFixed(1)},${f(v).toFixed(1)}`).join('');
+  const D = '#0072B2';
+  const E = '#D55E00';
+  const ticks = (max, f, side, color) => [0, 0.5, 1].map((k) => {
+    const v = (max / 1.1) * k;
+    const tx = side === 'l' ? m.l - 4 : W - m.r + 4;
+    return `<text x="${tx}" y="${f(v) + 3}" text-anchor="${side === 'l' ? 'end' : 'start'}" fill="${color}">${num(v, 2)}</text>`;
+  }).join('');
+  const xt = [xMin, (xMin + xMax) / 2, xMax].map((v) => `<text x="${x(v)}" y="${H - m.b + 14}" text-anchor="middle">${num(v, 3)}</text>`).join('');
+  const dots = its.map((it, i) => {
+    const isChosen = Math.abs(it.spacing - chosen) <= 1e-9 * chosen;
+    return `<circle cx="${x(xs[i])}" cy="${yd(ds[i])}" r="3" fill="${it.met ? D : '#fff'}" stroke="${D}"/>` +
+      `<rect x="${x(xs[i]) - 3}" y="${ye(es[i]) - 3}" width="6" height="6" fill="${it.met ? E : '#fff'}" stroke="${E}"/>` +
+      (isChosen ? `<line x1="${x(xs[i])}" x2="${x(xs[i])}" y1="${m.t}" y2="${H - m.b}" stroke="#1d232a" stroke-width="1"/>` +
+        `<text x="${x(xs[i])}" y="${m.t - 3}" text-anchor="middle">chosen</text>` : '');
+  }).join('');
+  const limitLines = limits
+    ? `<line x1="${m.l}" x2="${W - m.r}" y1="${yd(dLimit)}" y2="${yd(dLimit)}" stroke="${D}" stroke-dasharray="4 3"/>` +
+      `<line x1="${m.l}" x2="${W - m.r}" y1="${ye(eLimit)}" y2="${ye(eLimit)}" stroke="${E}" stroke-dasharray="4 3"/>`
+    : '';
+  svg.innerHTML = `<g class="axes" stroke="#9aa3ad"><line x1="${m.l}" x2="${W - m.r}" y1="${H - m.b}" y2="${H - m.b}"/>` +
+    `<line x1="${m.l}" x2="${m.l}" y1="${m.t}" y2="${H - m.b}"/><line x1="${W - m.r}" x2="${W - m.r}" y1="${m.t}" y2="${H - m.b}"/></g>` +
+    `<g class="labels">${ticks(dMax, yd, 'l', D)}${ticks(eMax, ye, 'r', E)}${xt}` +
+    `<text x="${(W) / 2}" y="${H - 4}" text-anchor="middle">pass spacing, mm (filled: meets the limits; dashed: limits)</text>` +
+    `<text x="4" y="${m.t + 2}" fill="${D}">δ %</text><text x="${W - 4}" y="${m.t + 2}" text-anchor="end" fill="${E}">E µm</text></g>` +
+    limitLines +
+    `<path d="${line(ds, yd)}" fill="none" stroke="${D}" stroke-width="1.5"/>` +
+    `<path d="${line(es, ye)}" fill="none" stroke="${E}" stroke-width="1.5"/>` + dots;
+}
+
+export const sprayTool = new SprayTool();

@@ -1,0 +1,177 @@
+// Module worker: the only place (with app/engine.js) that loads the wasm package. It owns the
+// live Mesh, so that re-segmenting or planning never re-parses, and dispatches requests to
+// the tools' worker modules (worker/segment.js, worker/spray.js, …).
+//
+// Protocol (app/engine.js is the other side; ids tie replies to requests):
+//   page → worker  { id, op, ...payload }        op = 'open' or '<tool>.<name>', e.g. 'spray.plan'
+//   worker → page  { type: 'ready' } | { type: 'fatal', message }     once, after wasm init
+//                  { id, type: 'progress', stage, fraction }           any number, then
+//                  { id, type: 'done', result }                        either this
+//                  { id, type: 'error', message, broken }              or this
+// Requests run one at a time, in order. Typed arrays in results are transferred, not copied.
+// `broken` means the wasm instance may be corrupt: the page then replaces this worker. Cancel
+// also replaces the worker (a running wasm call cannot be interrupted otherwise).
+//
+// A tool's worker module exports { ops, onOpen?, onMeshChanged? }:
+//   ops[name](ctx, message, progress) -> [result, transferList]    handles '<tool>.<name>'
+//   onOpen(ctx, params, progress) -> result        runs right after parsing when the page sent
+//                                                  params for this tool (segment: segmenting)
+//   onMeshChanged(ctx)                             the mesh was replaced: drop derived state
+// `ctx` is shared: { mesh, segmentation, welded(), display(progress), describe(error, doing) }.
+// Workers ignore the page's import map, hence relative paths.
+import init, { Mesh, wasmMemoryBytes } from '../pkg/skinpath.js';
+import * as segmentTool from './segment.js';
+import * as sprayTool from './spray.js';
+
+const TOOLS = { segment: segmentTool, spray: sprayTool };
+
+/** Posts progress at most once per whole percent per stage: the core may call back often. */
+function progressFor(id) {
+  let lastStage = null;
+  let lastPercent = -1;
+  return (stage, fraction) => {
+    const percent = Math.floor(Math.min(Math.max(fraction, 0), 1) * 100);
+    if (stage === lastStage && percent === lastPercent) return;
+    lastStage = stage;
+    lastPercent = percent;
+    postMessage({ id, type: 'progress', stage, fraction: percent / 100 });
+  };
+}
+
+/** Turns anything thrown into a message fit for the page; `broken` = the instance may be corrupt. */
+function describe(error, doing) {
+  if (error instanceof WebAssembly.RuntimeError) {
+    return {
+      broken: true,
+      message: `The engine failed while ${doing} (internal error: ${error.message.split('\n')[0]}). ` +
+        'The model on screen is unchanged. Please report the file and settings that caused it.',
+    };
+  }
+  if (error instanceof RangeError && /memory|allocat|array buffer/i.test(error.message)) {
+    return {
+      broken: true,
+      message: `The browser ran out of memory while ${doing}. Close other tabs or use a smaller mesh.`,
+    };
+  }
+  const text = error instanceof Error ? error.message : String(error);
+  return { broken: false, message: text || `The engine could not finish ${doing}.` };
+}
+
+const ctx = {
+  mesh: null, // Mesh of the model on screen
+  segmentation: null, // its current Segmentation (set by worker/segment.js)
+  weldedCache: null, // { positions, indices } of `mesh`, fetched once per mesh
+  describe,
+  welded() {
+    this.weldedCache ??= { positions: this.mesh.positions(), indices: this.mesh.indices() };
+    return this.weldedCache;
+  },
+  memoryBytes: () => wasmMemoryBytes(),
+  /**
+   * Draw buffers for the current mesh, triangles grouped by patch so that each patch is one
+   * contiguous range: positions (9 floats per triangle, expanded through the indices) and
+   * ranges [start0, count0, start1, count1, …] in triangles, one pair per patch id and a
+   * last pair for the dropped triangles. Without a segmentation everything is "dropped".
+   */
+  display(progress) {
+    const seg = this.segmentation;
+    const { positions, indices } = this.welded();
+    const triangleCount = indices.length / 3;
+    const patchCount = seg ? seg.patchCount : 0;
+    const patchOf = seg ? seg.patchOf() : null;
+    const bucketOf = (t) => {
+      const p = patchOf ? patchOf[t] : -1;
+      return p < 0 ? patchCount : p;
+    };
+    // Counting sort: bucket sizes, then running offsets.
+    const ranges = new Uint32Array(2 * (patchCount + 1));
+    for (let t = 0; t < triangleCount; t++) ranges[2 * bucketOf(t) + 1]++;
+    const cursor = new Uint32Array(patchCount + 1);
+    for (let b = 0, start = 0; b <= patchCount; b++) {
+      ranges[2 * b] = start;
+      cursor[b] = start;
+      start += ranges[2 * b + 1];
+    }
+    const out = new Float32Array(triangleCount * 9);
+    const step = Math.max(1, Math.floor(triangleCount / 50));
+    for (let t = 0; t < triangleCount; t++) {
+      let o = 9 * cursor[bucketOf(t)]++;
+      for (let k = 0; k < 3; k++) {
+        const v = 3 * indices[3 * t + k];
+        out[o++] = positions[v];
+        out[o++] = positions[v + 1];
+        out[o++] = positions[v + 2];
+      }
+      if (t % step === 0) progress('Preparing the display', t / triangleCount);
+    }
+    progress('Preparing the display', 1);
+    const borders = seg ? seg.borderSegments() : new Float32Array(0);
+    // The two patch ids beside each border segment, so borders of hidden patches hide too.
+    const borderPatches = seg ? seg.borderPatches() : new Int32Array(0);
+    const display = { positions: out, ranges, borders, borderPatches };
+    return [display, [out.buffer, ranges.buffer, borders.buffer, borderPatches.buffer]];
+  },
+};
+
+/** Parses an STL, then lets each tool that sent params work on it (segment: segmenting). */
+function open({ id, buffer, tools = {} }) {
+  const progress = progressFor(id);
+  const t0 = performance.now();
+  // Parse first: a bad file leaves the current mesh (and everything derived) untouched.
+  const next = Mesh.fromStl(new Uint8Array(buffer), progress);
+  for (const tool of Object.values(TOOLS)) tool.onMeshChanged?.(ctx);
+  ctx.mesh?.free();
+  ctx.mesh = next;
+  ctx.weldedCache = null;
+  const report = ctx.mesh.report();
+  const t1 = performance.now();
+  const toolResults = {};
+  for (const [name, params] of Object.entries(tools)) {
+    if (params && TOOLS[name]?.onOpen) toolResults[name] = TOOLS[name].onOpen(ctx, params, progress);
+  }
+  const [display, transfer] = ctx.display(progress);
+  const result = {
+    report,
+    triangleCount: ctx.mesh.triangleCount,
+    vertexCount: ctx.mesh.vertexCount,
+    tools: toolResults,
+    display,
+    memoryBytes: wasmMemoryBytes(),
+    timings: { parseMs: t1 - t0 },
+  };
+  return [result, transfer];
+}
+
+function handlerOf(op) {
+  if (op === 'open') return (msg) => open(msg);
+  const [tool, name] = op.split('.');
+  const handler = TOOLS[tool]?.ops?.[name];
+  if (!handler) return null;
+  return (msg) => {
+    if (!ctx.mesh) throw new Error('No model is loaded.');
+    return handler(ctx, msg, progressFor(msg.id));
+  };
+}
+
+const DOING = { open: 'reading the file' };
+
+try {
+  await init();
+  self.addEventListener('message', (event) => {
+    const msg = event.data;
+    try {
+      const handler = handlerOf(msg.op);
+      if (!handler) throw new Error(`Unknown engine request "${msg.op}".`);
+      const [result, transfer] = handler(msg);
+      postMessage({ id: msg.id, type: 'done', result }, transfer);
+    } catch (error) {
+      const [tool, name] = msg.op.split('.');
+      const doing = DOING[msg.op] ?? TOOLS[tool]?.doing?.[name] ?? 'working';
+      const d = describe(error, doing);
+      postMessage({ id: msg.id, type: 'error', message: d.message, broken: d.broken });
+    }
+  });
+  postMessage({ type: 'ready' });
+} catch (error) {
+  postMessage({ type: 'fatal', message: `The WebAssembly engine could not start: ${error?.message ?? error}` });
+}
