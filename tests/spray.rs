@@ -563,7 +563,7 @@ fn planes_that_miss_the_patch_are_reported() {
 }
 
 /// Runs the paper's set-up (h 250 mm, v 400 mm/s, α 40°, Q 150 cm³/min, η 0.6, β_T 20°) on
-/// the largest patch of a real model in metres, with limits δ ≤ 0.25 and prints the figures.
+/// the largest patch of a real model in metres, with the limit δ ≤ 0.2 and prints the figures.
 #[cfg(not(target_arch = "wasm32"))]
 fn real_model(name: &str) {
     use skinpath::segment::{segment, SegmentParams};
@@ -581,7 +581,7 @@ fn real_model(name: &str) {
         efficiency: 0.6,
         resolution: Some(0.02),
         quality: Some(QualityLimits {
-            max_error: Some(0.25),
+            max_error: Some(0.2),
             ..QualityLimits::default()
         }),
         ..SprayParams::default()
