@@ -579,7 +579,7 @@ fn real_model(name: &str) {
         cone_angle: 40f64.to_radians(),
         transition_angle: 20f64.to_radians(),
         efficiency: 0.6,
-        resolution: Some(0.02),
+        resolution: Some(0.04),
         quality: Some(QualityLimits {
             max_error: Some(0.2),
             ..QualityLimits::default()
