@@ -20,7 +20,7 @@ import { dirname, join } from 'node:path';
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_000],
   ['fuselage', 2_000_000], ['grid', 1_000_000]];
-const SPRAY_CASES = [20_000, 100_000, 500_000];
+const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000").split(",").map(Number);
 
 function toBinaryStl(tris) {
   const bytes = new Uint8Array(84 + 50 * tris.length);
