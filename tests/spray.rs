@@ -602,6 +602,21 @@ fn real_model(name: &str) {
         plan.samples.positions.len(), plan.path.poses.len(), plan.iterations.len()
     );
     assert!(plan.pass_count > 0 && q.mean > 0.0);
+    let fixed = SprayParams { quality: None, ..p };
+    let plan = plan_spray(
+        &m.mesh,
+        &m.adjacency,
+        &m.geometry,
+        &faces,
+        &fixed,
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let q = plan.quality.interior;
+    println!(
+        "{name} at spacing {} m without limits: {} passes, interior δ {:.3}, E {:.3} µm, mean {:.2} µm; whole δ {:.3}",
+        plan.spacing, plan.pass_count, q.error, q.std_dev * 1e6, q.mean * 1e6, plan.quality.whole.error
+    );
 }
 
 #[cfg(not(target_arch = "wasm32"))]
