@@ -16,6 +16,8 @@ pub(crate) const MM_DECIMALS: usize = 6;
 pub(crate) const UNIT_DECIMALS: usize = 9;
 /// Digits after the point for angles in degrees (1e-6°, about 2e-8 rad).
 pub(crate) const DEG_DECIMALS: usize = 6;
+/// Digits after the point for speeds in mm/s in the robot programs (1e-3 mm/s).
+pub(crate) const SPEED_DECIMALS: usize = 3;
 /// Longest line the robot programs contain; statements and comments wrap before it.
 pub(crate) const ROBOT_LINE_WIDTH: usize = 80;
 
@@ -182,7 +184,7 @@ pub(crate) fn max_moves(options: &ExportOptions, default: usize) -> Result<usize
 /// Consecutive ranges of at most `max` moves covering `0..n` (`max ≥ 1`).
 pub(crate) fn parts(n: usize, max: usize) -> Vec<Range<usize>> {
     (0..n.div_ceil(max))
-        .map(|k| k * max..((k + 1) * max).min(n))
+        .map(|k| k * max..(k + 1).saturating_mul(max).min(n))
         .collect()
 }
 
@@ -346,12 +348,12 @@ pub(crate) fn header_notes(
             "{} moves in {} passes. Positions in mm ({} mm per model unit).",
             path.poses.len(),
             path.pass_count(),
-            num(k, 12)
+            num(k, UNIT_DECIMALS)
         ),
         format!(
             "Process speed {} mm/s, link speed {} mm/s.",
-            num(path.speed * k, 3),
-            num(path.link_speed * k, 3)
+            num(path.speed * k, SPEED_DECIMALS),
+            num(path.link_speed * k, SPEED_DECIMALS)
         ),
         "Tool frame: Z = tool axis towards the part, X = travel direction, Y = Z x X.".into(),
         "The first move runs with the process off from wherever the robot stands.".into(),

@@ -61,14 +61,16 @@ impl PoseKind {
 }
 
 /// One robot target: a position, the unit tool axis (pointing from the tool towards the part)
-/// and the unit travel direction (perpendicular to the axis), in the mesh's unit.
+/// and the unit travel direction, in the mesh's unit. The exports use the part of `travel`
+/// perpendicular to `axis`; a travel along the axis (drilling) is allowed and gets the
+/// fallback of [`super::frames`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
     /// Tool centre point, mesh unit.
     pub position: Point3,
     /// Unit tool axis, towards the part (the tool frame's Z).
     pub axis: Vector3,
-    /// Unit travel direction, perpendicular to `axis` (the tool frame's X).
+    /// Unit travel direction, normally perpendicular to `axis` (the tool frame's X).
     pub travel: Vector3,
     /// What the tool does here.
     pub kind: PoseKind,

@@ -213,7 +213,7 @@ pub fn rapid_files(
         let _ = writeln!(
             main,
             "  CONST speeddata {constant} := [{},{RAPID_SPEED_TAIL}];",
-            num(speed, 3)
+            num(speed, MM_DECIMALS)
         );
     }
     let _ = writeln!(main, "\n  PROC {}()", o.entry);

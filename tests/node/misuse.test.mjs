@@ -191,9 +191,10 @@ test('fromStl takes a Uint8Array or an ArrayBuffer and refuses other types and 2
     refuses(() => Mesh.fromStl(value), new RegExp(`^the STL file must be a Uint8Array or an ArrayBuffer, got ${described}$`));
   }
   const detached = new Uint8Array(cube).buffer;
+  const view = new Uint8Array(detached);
   structuredClone(detached, { transfer: [detached] });
   refuses(() => Mesh.fromStl(detached), /^the file is empty$/);
-  refuses(() => Mesh.fromStl(new Uint8Array(detached)), /^the file is empty$/);
+  refuses(() => Mesh.fromStl(view), /^the file is empty$/);
   refuses(() => Mesh.fromStl(cube, 5), /^onProgress must be a function, got the number 5$/);
   refuses(() => Mesh.fromStl(cube).segment(paper, 'progress'), /^onProgress must be a function, got the string "progress"$/);
   let huge = null;
