@@ -194,8 +194,28 @@ fn plan_spray_returns_flat_arrays_and_refuses_bad_params_by_name() {
         panic!("misspelt key accepted")
     };
     assert!(message(e).contains("spasing"));
-    let Err(e) = mesh.plan_spray(json(params), Some(vec![7]), None) else {
+    let Err(e) = mesh.plan_spray(json(params), Some(json("[7]")), None) else {
         panic!("unknown face accepted")
     };
     assert!(message(e).contains('7'));
+    let Err(e) = mesh.plan_spray(json(params), Some(json("[0.5]")), None) else {
+        panic!("a fractional face id accepted")
+    };
+    assert_eq!(
+        message(e),
+        "faces[0] must be a whole number from 0 to 4294967295, got 0.5"
+    );
+    let Err(e) = mesh.plan_spray(
+        json(&params.replace("\"resolution\": 25", "\"direction\": [1, 0]")),
+        None,
+        None,
+    ) else {
+        panic!("a direction of two numbers accepted")
+    };
+    assert!(message(e).starts_with("direction must be three numbers [x, y, z]"));
+    let csv = plan.to_csv(json(r#"{"mmPerUnit": 1000}"#)).unwrap();
+    let first = csv.lines().nth(1).unwrap();
+    let x_mm: f64 = first.split(',').nth(3).unwrap().parse().unwrap();
+    let x_unit = plan.trajectory()[0];
+    assert!((x_mm - 1000.0 * x_unit).abs() < 1e-3, "{x_mm} vs {x_unit}");
 }

@@ -1,6 +1,6 @@
 //! `Mesh`: an imported STL held on the Rust side (JavaScript must call `free()`).
 
-use super::params::{read_bytes, read_callback};
+use super::params::{read_bytes, read_callback, read_index_list};
 use super::{progress_fn, Segmentation, SprayPlan};
 use crate::mesh::{import_stl, ImportedMesh};
 use std::rc::Rc;
@@ -80,12 +80,15 @@ impl Mesh {
     pub fn plan_spray(
         &self,
         #[wasm_bindgen(unchecked_param_type = "SprayPlanParams")] params: JsValue,
-        faces: Option<Vec<u32>>,
+        #[wasm_bindgen(unchecked_optional_param_type = "Uint32Array | number[] | null")]
+        faces: Option<JsValue>,
         #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
-        on_progress: Option<js_sys::Function>,
+        on_progress: Option<JsValue>,
     ) -> Result<SprayPlan, JsError> {
-        // Every JavaScript input is read before the mesh is used.
-        let params = super::spray::spray_params_from_js(params)?;
+        // All JavaScript input is read (through imports that catch exceptions) before any work.
+        let params = super::spray::spray_params_from_js(&params)?;
+        let faces = read_index_list(faces, "faces")?;
+        let on_progress = read_callback(on_progress, "onProgress")?;
         let faces = faces.unwrap_or_else(|| (0..self.inner.mesh.triangle_count() as u32).collect());
         let m = &self.inner;
         let plan = crate::spray::plan_spray(

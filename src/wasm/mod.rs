@@ -6,6 +6,7 @@ mod mesh;
 mod params;
 mod segment;
 mod spray;
+mod toolpath;
 
 pub use mesh::Mesh;
 pub use params::{ArgError, ParamReader, MAX_DEPTH};

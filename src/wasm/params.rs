@@ -159,6 +159,18 @@ impl ParamReader {
         Ok(reader)
     }
 
+    /// Like [`ParamReader::object`] for an optional argument: `undefined` gives `None`.
+    pub fn optional_argument(
+        value: &JsValue,
+        noun: &'static str,
+        keys: &[&'static str],
+    ) -> Result<Option<ParamReader>, ArgError> {
+        if value.is_undefined() {
+            return Ok(None);
+        }
+        ParamReader::object(value, noun, keys).map(Some)
+    }
+
     /// Checks that `self.object` is an object and refuses own string keys not in `keys`,
     /// without reading their values. `what` names the object in messages.
     fn check(&self, what: &str, keys: &[&'static str]) -> Result<(), ArgError> {
@@ -291,6 +303,59 @@ impl ParamReader {
         })
     }
 
+    /// A string of at most 256 characters.
+    pub fn optional_string(&self, key: &'static str) -> Result<Option<String>, ArgError> {
+        let Some(v) = self.get(key)? else {
+            return Ok(None);
+        };
+        match v.dyn_ref::<JsString>() {
+            Some(s) if s.length() <= MAX_STRING => Ok(Some(String::from(s))),
+            Some(_) => Err(ArgError(format!(
+                "{} must be at most {MAX_STRING} characters long",
+                self.name(key)
+            ))),
+            None => Err(self.wrong_type(key, "a string", &v)),
+        }
+    }
+
+    /// Three numbers `[x, y, z]` (an array or a typed array of length 3).
+    pub fn optional_vector3(&self, key: &'static str) -> Result<Option<[f64; 3]>, ArgError> {
+        let Some(v) = self.get(key)? else {
+            return Ok(None);
+        };
+        let wanted = "three numbers [x, y, z]";
+        let is_list = is_array(&v).unwrap_or(false)
+            || v.is_instance_of::<js_sys::Float64Array>()
+            || v.is_instance_of::<js_sys::Float32Array>();
+        if !is_list {
+            return Err(self.wrong_type(key, wanted, &v));
+        }
+        let length = Reflect::get(&v, &"length".into())
+            .ok()
+            .and_then(|l| l.as_f64());
+        if length != Some(3.0) {
+            return Err(self.wrong_type(key, wanted, &v));
+        }
+        let mut out = [0.0; 3];
+        for (i, slot) in out.iter_mut().enumerate() {
+            let item = Reflect::get_u32(&v, i as u32).map_err(|e| {
+                ArgError(format!(
+                    "reading {}[{i}] threw: {}",
+                    self.name(key),
+                    exception_message(&e)
+                ))
+            })?;
+            *slot = item.as_f64().ok_or_else(|| {
+                ArgError(format!(
+                    "{}[{i}] must be a number, got {}",
+                    self.name(key),
+                    describe(&item)
+                ))
+            })?;
+        }
+        Ok(Some(out))
+    }
+
     /// A nested parameter object with its own declared `keys`, read with its own reader
     /// (messages say "key.inner"). Refused beyond [`MAX_DEPTH`], so a schema cannot recurse
     /// without bound.
@@ -405,4 +470,45 @@ pub(crate) fn read_callback(
             describe(&v)
         ))),
     }
+}
+
+/// Largest element count of an index list (face ids): more than any mesh the engine holds.
+const MAX_INDEX_LIST: u32 = 1 << 28;
+
+/// An optional list of indices (face ids): a `Uint32Array`, or an array of whole numbers from
+/// 0 to 2^32 − 1; `undefined` or `null` gives `None`. `name` names the argument in messages.
+pub(crate) fn read_index_list(
+    value: Option<JsValue>,
+    name: &str,
+) -> Result<Option<Vec<u32>>, ArgError> {
+    let Some(value) = value.filter(|v| !v.is_undefined() && !v.is_null()) else {
+        return Ok(None);
+    };
+    if let Some(typed) = value.dyn_ref::<js_sys::Uint32Array>() {
+        return Ok(Some(typed.to_vec()));
+    }
+    if !is_array(&value).unwrap_or(false) {
+        return Err(ArgError(format!(
+            "{name} must be a Uint32Array or an array of face ids, got {}",
+            describe(&value)
+        )));
+    }
+    let array: &js_sys::Array = value.unchecked_ref();
+    if array.length() > MAX_INDEX_LIST {
+        return Err(ArgError(format!(
+            "{name} has {} entries, more than the {MAX_INDEX_LIST} the engine takes",
+            array.length()
+        )));
+    }
+    let mut out = Vec::with_capacity(array.length() as usize);
+    for i in 0..array.length() {
+        let item = Reflect::get_u32(&value, i).map_err(|e| {
+            ArgError(format!(
+                "reading {name}[{i}] threw: {}",
+                exception_message(&e)
+            ))
+        })?;
+        out.push(integer(&item, &format!("{name}[{i}]"), 0, u32::MAX as i64)? as u32);
+    }
+    Ok(Some(out))
 }

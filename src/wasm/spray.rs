@@ -1,7 +1,9 @@
 //! `SprayPlan`: the result of `Mesh.planSpray` (JavaScript must call `free()`).
 
-use crate::spray::SprayParams;
-use crate::toolpath::{to_csv, to_json, to_krl, to_rapid, ExportOptions};
+use super::params::ParamReader;
+use super::toolpath::export_options_from_js;
+use crate::spray::{QualityLimits, SprayParams};
+use crate::toolpath::{to_csv, to_json, to_krl, to_rapid};
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen(typescript_custom_section)]
@@ -25,7 +27,7 @@ export interface SprayQuality { interior: ThicknessStats; whole: ThicknessStats;
 /** One spacing tried by the search, with its interior figures. */
 export interface SprayIteration { spacing: number; mean: number; stdDev: number; error: number; met: boolean }
 /** Robot-program options: millimetres per file unit (default 1), program name, moves per file. */
-export interface ExportOptions { mmPerUnit?: number; name?: string; maxMoves?: number }
+export interface ExportOptions { mmPerUnit?: number; name?: string; maxMoves?: number; lineEnding?: "lf" | "crlf" }
 "#;
 
 /// Keys of `SprayPlanParams`.
@@ -48,64 +50,42 @@ const PARAM_KEYS: &[&str] = &[
 ];
 /// Keys of `SprayQualityLimits`.
 const QUALITY_KEYS: &[&str] = &["maxStdDev", "maxError", "minSpacing", "maxSpacing"];
-/// Keys of `ExportOptions`.
-const EXPORT_KEYS: &[&str] = &["mmPerUnit", "name", "maxMoves"];
 
-/// Refuses a key of the object `value` that is not in `allowed` (serde-wasm-bindgen reads
-/// only the fields it knows, so `deny_unknown_fields` alone would not see typos).
-fn refuse_unknown_keys(value: &JsValue, allowed: &[&str], what: &str) -> Result<(), JsError> {
-    if !value.is_object() {
-        return Ok(());
-    }
-    for key in js_sys::Object::keys(value.unchecked_ref::<js_sys::Object>()).iter() {
-        let key = key.as_string().unwrap_or_default();
-        if !allowed.contains(&key.as_str()) {
-            return Err(JsError::new(&format!(
-                "invalid {what}: unknown key '{key}'"
-            )));
-        }
-    }
-    Ok(())
-}
-
-/// Reads `SprayPlanParams` from JavaScript; unknown keys (usually typos) are refused.
-pub(crate) fn spray_params_from_js(value: JsValue) -> Result<SprayParams, JsError> {
-    refuse_unknown_keys(&value, PARAM_KEYS, "spray parameters")?;
-    if value.is_object() {
-        let quality = js_sys::Reflect::get(&value, &JsValue::from_str("quality"))
-            .map_err(|_| JsError::new("invalid spray parameters: quality is unreadable"))?;
-        refuse_unknown_keys(&quality, QUALITY_KEYS, "spray parameters: quality")?;
-    }
-    serde_wasm_bindgen::from_value(value)
-        .map_err(|e| JsError::new(&format!("invalid spray parameters: {e}")))
-}
-
-/// `{ mmPerUnit?, name?, maxMoves? }` as JavaScript spells it.
-#[derive(serde::Deserialize, Default)]
-#[serde(rename_all = "camelCase", deny_unknown_fields)]
-struct ExportOptionsSpec {
-    mm_per_unit: Option<f64>,
-    name: Option<String>,
-    max_moves: Option<usize>,
-}
-
-fn export_options_from_js(value: JsValue) -> Result<ExportOptions, JsError> {
-    refuse_unknown_keys(&value, EXPORT_KEYS, "export options")?;
-    let spec: ExportOptionsSpec = if value.is_undefined() || value.is_null() {
-        ExportOptionsSpec::default()
-    } else {
-        serde_wasm_bindgen::from_value(value)
-            .map_err(|e| JsError::new(&format!("invalid export options: {e}")))?
+/// Reads `SprayPlanParams` through the bounded reader (unknown keys, wrong types and `null`
+/// refused by name); the core's `validate` then checks the ranges.
+pub(crate) fn spray_params_from_js(value: &JsValue) -> Result<SprayParams, JsError> {
+    let r = ParamReader::object(value, "spray parameter", PARAM_KEYS)?;
+    let defaults = SprayParams::default();
+    let quality = match r.optional_object("quality", QUALITY_KEYS)? {
+        None => None,
+        Some(q) => Some(QualityLimits {
+            max_std_dev: q.optional_number("maxStdDev")?,
+            max_error: q.optional_number("maxError")?,
+            min_spacing: q.optional_number("minSpacing")?,
+            max_spacing: q.optional_number("maxSpacing")?,
+        }),
     };
-    let mut options = ExportOptions::default();
-    if let Some(mm) = spec.mm_per_unit {
-        options.mm_per_unit = mm;
-    }
-    if let Some(name) = spec.name {
-        options.name = name;
-    }
-    options.max_moves = spec.max_moves;
-    Ok(options)
+    Ok(SprayParams {
+        spacing: r.number("spacing")?,
+        standoff: r.number("standoff")?,
+        speed: r.number("speed")?,
+        flow_rate: r.number("flowRate")?,
+        cone_angle: r.number("coneAngle")?,
+        transition_angle: r.number("transitionAngle")?,
+        efficiency: r
+            .optional_number("efficiency")?
+            .unwrap_or(defaults.efficiency),
+        direction: r.optional_vector3("direction")?,
+        raster_angle: r
+            .optional_number("rasterAngle")?
+            .unwrap_or(defaults.raster_angle),
+        extension: r.optional_number("extension")?,
+        time_step: r.optional_number("timeStep")?,
+        resolution: r.optional_number("resolution")?,
+        edge_exclusion: r.optional_number("edgeExclusion")?,
+        quality,
+        target_thickness: r.optional_number("targetThickness")?,
+    })
 }
 
 #[derive(serde::Serialize)]
@@ -224,16 +204,24 @@ impl SprayPlan {
         Ok(serde_wasm_bindgen::to_value(&self.inner.iterations)?)
     }
 
-    /// The trajectory as CSV.
+    /// The trajectory as CSV (positions in mm: give `mmPerUnit` for a file not in mm).
     #[wasm_bindgen(js_name = toCsv)]
-    pub fn to_csv(&self) -> Result<String, JsError> {
-        Ok(to_csv(&self.inner.path, &ExportOptions::default())?)
+    pub fn to_csv(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
+    ) -> Result<String, JsError> {
+        let options = export_options_from_js(&opts)?;
+        Ok(to_csv(&self.inner.path, &options)?)
     }
 
-    /// The trajectory as JSON.
+    /// The trajectory as JSON (positions in mm: give `mmPerUnit` for a file not in mm).
     #[wasm_bindgen(js_name = toJson)]
-    pub fn to_json(&self) -> Result<String, JsError> {
-        Ok(to_json(&self.inner.path, &ExportOptions::default())?)
+    pub fn to_json(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
+    ) -> Result<String, JsError> {
+        let options = export_options_from_js(&opts)?;
+        Ok(to_json(&self.inner.path, &options)?)
     }
 
     /// ABB RAPID modules, one string per file (main module first).
@@ -242,7 +230,7 @@ impl SprayPlan {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<Vec<String>, JsError> {
-        let options = export_options_from_js(opts)?;
+        let options = export_options_from_js(&opts)?;
         Ok(to_rapid(&self.inner.path, &options)?)
     }
 
@@ -252,7 +240,7 @@ impl SprayPlan {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<Vec<String>, JsError> {
-        let options = export_options_from_js(opts)?;
+        let options = export_options_from_js(&opts)?;
         Ok(to_krl(&self.inner.path, &options)?)
     }
 }

@@ -86,9 +86,15 @@ test('planSpray on a plate gives consistent flat arrays and quality figures', ()
   assert.deepEqual(Object.keys(its[0]).sort(), ['error', 'mean', 'met', 'spacing', 'stdDev']);
   assert.equal(typeof plan.toCsv(), 'string');
   assert.equal(typeof plan.toJson(), 'string');
+  // Exports are in mm: a file in metres scales by mmPerUnit 1000.
+  const x = plan.trajectory()[0];
+  const csvX = Number(plan.toCsv({ mmPerUnit: 1000 }).split('\n')[1].split(',')[3]);
+  assert.ok(Math.abs(csvX - 1000 * x) < 1e-3, `${csvX} vs ${x}`);
+  assert.equal(JSON.parse(plan.toJson({ mmPerUnit: 1000 })).poses[0].position[0].toFixed(3), (1000 * x).toFixed(3));
+  assert.throws(() => plan.toCsv({ mmPerUnit: -1 }), /mm_per_unit|mmPerUnit/);
   assert.ok(Array.isArray(plan.toRapid({ mmPerUnit: 1, name: 'plate', maxMoves: 100 })));
   assert.ok(Array.isArray(plan.toKrl()));
-  assert.throws(() => plan.toRapid({ mmPerUnit: 1, nmae: 'x' }), /invalid export options.*nmae/);
+  assert.throws(() => plan.toRapid({ mmPerUnit: 1, nmae: 'x' }), /^Error: unknown export option 'nmae'$/);
   plan.free();
   mesh.free();
 });
@@ -120,8 +126,11 @@ test('bad parameters and face lists throw Errors naming them; the mesh keeps wor
     [{ efficiency: 2 }, /efficiency must be in \(0, 1\]/],
     [{ spacing: 1000 }, /spacing 1000 is larger than the patch/],
     [{ quality: { maxStdDev: -1 } }, /quality\.maxStdDev must be positive/],
-    [{ quality: { maxError: 0.1, typo: 1 } }, /invalid spray parameters.*typo/],
-    [{ spacnig: 3 }, /invalid spray parameters.*spacnig/],
+    [{ quality: { maxError: 0.1, typo: 1 } }, /^unknown spray parameter 'quality\.typo'$/],
+    [{ spacnig: 3 }, /^unknown spray parameter 'spacnig'$/],
+    [{ speed: '400' }, /^speed must be a number, got the string "400"$/],
+    [{ direction: [1, 0] }, /^direction must be three numbers \[x, y, z\]/],
+    [{ quality: null }, /^quality must be an object, got null$/],
     [{ resolution: 0.001 }, /coarser resolution/],
   ];
   for (const [change, message] of cases) {
@@ -131,6 +140,9 @@ test('bad parameters and face lists throw Errors naming them; the mesh keeps wor
   }
   assert.throws(() => mesh.planSpray(base, new Uint32Array([])), /faces is empty/);
   assert.throws(() => mesh.planSpray(base, new Uint32Array([0, 99])), /faces contains 99/);
+  assert.throws(() => mesh.planSpray(base, [0, 1.5]), /^Error: faces\[1\] must be a whole number from 0 to 4294967295, got 1\.5$/);
+  assert.throws(() => mesh.planSpray(base, 'all'), /^Error: faces must be a Uint32Array or an array of face ids, got the string "all"$/);
+  assert.throws(() => mesh.planSpray(base, undefined, 5), /^Error: onProgress must be a function, got the number 5$/);
   const plan = mesh.planSpray(base, new Uint32Array([0, 1, 2, 3, 4, 5, 6, 7]));
   assert.ok(plan.passCount > 0);
   plan.free();
@@ -156,7 +168,7 @@ test('the TypeScript declarations name the spray API', () => {
   for (const name of ['planSpray(params: SprayPlanParams', 'patchFaces(id: number): Uint32Array',
     'trajectory(): Float64Array', 'pointKinds(): Uint8Array', 'passOf(): Uint32Array',
     'samplePositions(): Float32Array', 'sampleThickness(): Float32Array', 'sampleTriangles(): Uint32Array',
-    'quality(): SprayQuality', 'iterations(): SprayIteration[]', 'toCsv(): string', 'toJson(): string',
+    'quality(): SprayQuality', 'iterations(): SprayIteration[]', 'toCsv(opts?: ExportOptions): string', 'toJson(opts?: ExportOptions): string',
     'toRapid(opts?: ExportOptions): string[]', 'toKrl(opts?: ExportOptions): string[]',
     'readonly passCount: number', 'export interface SprayPlanParams {']) {
     assert.ok(dts.includes(name), `skinpath.d.ts lacks "${name}"`);
