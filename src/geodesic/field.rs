@@ -71,13 +71,14 @@ pub fn geodesic_distance(
         }
         None => DEFAULT_VOXEL_PER_EDGE * surface.mean_edge,
     };
-    let mut step = surface.mean_edge / SAMPLES_PER_EDGE;
-    if params.method == Method::Voxel {
-        step = step.min(0.5 * voxel_size);
-    }
+    // The voxel method seeds its own voxels L/2 apart along these samples.
+    let step = surface.mean_edge / SAMPLES_PER_EDGE;
     let resolved = resolve(&surface, &grid, source, step, max_snap)?;
     let (vertex_distance, voxels) = match params.method {
-        Method::Mesh => (super::unfolding::propagate(&surface, &resolved, progress)?, None),
+        Method::Mesh => (
+            super::unfolding::propagate(&surface, &resolved, progress)?,
+            None,
+        ),
         Method::Voxel => {
             let mut field = voxelise(&surface, voxel_size, params.max_voxel_bytes, progress)?;
             voxel_propagate(&mut field, &resolved, &surface, progress)?;
@@ -92,9 +93,8 @@ pub fn geodesic_distance(
             (vd, Some(field))
         }
     };
-    let finite_max = |it: &mut dyn Iterator<Item = Real>| {
-        it.filter(|d| d.is_finite()).fold(0.0, Real::max)
-    };
+    let finite_max =
+        |it: &mut dyn Iterator<Item = Real>| it.filter(|d| d.is_finite()).fold(0.0, Real::max);
     let max_distance = match &voxels {
         Some(f) => finite_max(&mut f.distance.iter().copied()),
         None => finite_max(&mut vertex_distance.iter().copied()),
@@ -213,7 +213,11 @@ fn pose(line: &IsoLine, tangents: &[Vector3], i: usize, kind: PoseKind, pass: us
 fn vector_area(line: &IsoLine) -> Vector3 {
     let n = line.points.len();
     (0..n)
-        .map(|i| line.points[i].coords.cross(&line.points[(i + 1) % n].coords))
+        .map(|i| {
+            line.points[i]
+                .coords
+                .cross(&line.points[(i + 1) % n].coords)
+        })
         .sum()
 }
 
@@ -266,7 +270,9 @@ pub(crate) fn link(mut lines: Vec<IsoLine>, order: LinkOrder) -> Vec<IsoLine> {
                 if let Some(h) = here {
                     let s = (0..line.points.len())
                         .min_by(|&a, &b| {
-                            (line.points[a] - h).norm().total_cmp(&(line.points[b] - h).norm())
+                            (line.points[a] - h)
+                                .norm()
+                                .total_cmp(&(line.points[b] - h).norm())
                         })
                         .unwrap_or(0);
                     line.points.rotate_left(s);

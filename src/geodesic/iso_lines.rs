@@ -90,10 +90,18 @@ impl IsoLine {
                 seg += 1;
             }
             let len = cum[seg + 1] - cum[seg];
-            let t = if len > 0.0 { ((s - cum[seg]) / len).clamp(0.0, 1.0) } else { 0.0 };
+            let t = if len > 0.0 {
+                ((s - cum[seg]) / len).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             points.push(pts[seg] + (pts[seg + 1] - pts[seg]) * t);
             let m = nrm[seg] * (1.0 - t) + nrm[seg + 1] * t;
-            normals.push(if m.norm() > 0.0 { m.normalize() } else { nrm[seg] });
+            normals.push(if m.norm() > 0.0 {
+                m.normalize()
+            } else {
+                nrm[seg]
+            });
         }
         IsoLine {
             points,
@@ -105,7 +113,11 @@ impl IsoLine {
 
 /// A unit vector perpendicular to `n` (for a degenerate travel direction).
 pub(crate) fn any_perpendicular(n: &Vector3) -> Vector3 {
-    let helper = if n.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
+    let helper = if n.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
     let t = n.cross(&helper);
     if t.norm() > 0.0 {
         t.normalize()
@@ -139,7 +151,10 @@ pub(crate) fn contour(surface: &Surface, values: &[Real], level: Real) -> Vec<Is
     let point = |f: usize, k: usize| -> (Point3, Vector3) {
         let t = mesh.triangles()[f];
         // Always interpolate from the smaller vertex id so both faces get the same point.
-        let (a, b) = (t[k].min(t[(k + 1) % 3]) as usize, t[k].max(t[(k + 1) % 3]) as usize);
+        let (a, b) = (
+            t[k].min(t[(k + 1) % 3]) as usize,
+            t[k].max(t[(k + 1) % 3]) as usize,
+        );
         let (da, db) = (values[a], values[b]);
         let s = ((level - da) / (db - da)).clamp(0.0, 1.0);
         let p = mesh.positions()[a] + (mesh.positions()[b] - mesh.positions()[a]) * s;
@@ -147,9 +162,7 @@ pub(crate) fn contour(surface: &Surface, values: &[Real], level: Real) -> Vec<Is
     };
     // The slot of face g that leads back to face f through the same crossing edge.
     let entry = |g: usize, f: usize, slots: [usize; 2]| -> Option<usize> {
-        slots
-            .into_iter()
-            .find(|&k| surface.across(g, k) == Some(f))
+        slots.into_iter().find(|&k| surface.across(g, k) == Some(f))
     };
     let mut visited = vec![false; mesh.triangle_count()];
     let mut lines = Vec::new();
@@ -168,7 +181,9 @@ pub(crate) fn contour(surface: &Surface, values: &[Real], level: Real) -> Vec<Is
             // Each step visits a new face, so at most F steps.
             loop {
                 half.push(point(f, exit));
-                let Some(g) = surface.across(f, exit) else { break };
+                let Some(g) = surface.across(f, exit) else {
+                    break;
+                };
                 if g == f0 {
                     closed = true;
                     break;

@@ -142,7 +142,9 @@ fn snap_polyline(
         if !p.coords.iter().all(|c| c.is_finite()) {
             return Err(GeodesicError::BadSource(format!("point {i} is not finite")));
         }
-        snapped.push(snap(p, &|| format!("source point {i} {:?}", p.coords.as_slice()))?);
+        snapped.push(snap(p, &|| {
+            format!("source point {i} {:?}", p.coords.as_slice())
+        })?);
     }
     let mut curve = Curve {
         points: Vec::new(),
@@ -164,7 +166,9 @@ fn snap_polyline(
             let s = if j == pieces {
                 snapped[(i + 1) % n]
             } else {
-                snap(&q, &|| format!("the segment from source point {i} to {}", (i + 1) % n))?
+                snap(&q, &|| {
+                    format!("the segment from source point {i} to {}", (i + 1) % n)
+                })?
             };
             curve.points.push(s.0);
             curve.faces.push(s.1);
@@ -186,10 +190,13 @@ pub(crate) fn resolve(
     match source {
         GeodesicSource::Polyline { points, closed } => {
             if points.is_empty() {
-                return Err(GeodesicError::BadSource("the polyline has no points".into()));
+                return Err(GeodesicError::BadSource(
+                    "the polyline has no points".into(),
+                ));
             }
-            out.curves
-                .push(snap_polyline(surface, grid, points, *closed, step, max_snap)?);
+            out.curves.push(snap_polyline(
+                surface, grid, points, *closed, step, max_snap,
+            )?);
         }
         GeodesicSource::Vertices(vs) => {
             if vs.is_empty() {
@@ -236,17 +243,24 @@ pub(crate) fn resolve(
         }
         GeodesicSource::Plane { point, normal } => {
             let len = normal.norm();
-            if !(len.is_finite() && len > 0.0) || !point.coords.iter().all(|c| c.is_finite()) {
+            if !(len.is_finite() && len > 0.0 && point.coords.iter().all(|c| c.is_finite())) {
                 return Err(GeodesicError::BadSource(
                     "the plane needs a finite point and a finite, non-zero normal".into(),
                 ));
             }
             let n = normal / len;
-            let values: Vec<Real> = mesh.positions().iter().map(|p| n.dot(&(p - point))).collect();
+            let values: Vec<Real> = mesh
+                .positions()
+                .iter()
+                .map(|p| n.dot(&(p - point)))
+                .collect();
             let lines = contour(surface, &values, 0.0);
             let nearest = lines.iter().min_by(|a, b| {
                 let d = |l: &&super::IsoLine| {
-                    l.points.iter().map(|p| (p - point).norm()).fold(Real::MAX, Real::min)
+                    l.points
+                        .iter()
+                        .map(|p| (p - point).norm())
+                        .fold(Real::MAX, Real::min)
                 };
                 d(a).total_cmp(&d(b))
             });

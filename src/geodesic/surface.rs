@@ -164,7 +164,9 @@ impl FaceGrid {
         }
         let extent = hi - lo;
         let max_cells = (surface.faces.len() * GRID_CELLS_PER_FACE).max(1) as Real;
-        let mut cell = (2.0 * surface.mean_edge).max(extent.max() * 1e-6).max(Real::MIN_POSITIVE);
+        let mut cell = (2.0 * surface.mean_edge)
+            .max(extent.max() * 1e-6)
+            .max(Real::MIN_POSITIVE);
         // Grow the cell until the grid has at most GRID_CELLS_PER_FACE cells a face (≤ 64 rounds:
         // each doubles the cell).
         let dims_for = |c: Real| extent.map(|e| ((e / c).floor() as usize + 1).max(1));
@@ -258,7 +260,9 @@ impl FaceGrid {
                         for &f in &self.faces[self.start[i] as usize..self.start[i + 1] as usize] {
                             let q = closest_on_triangle(p, &mesh.corners(f as usize));
                             let d = (q - p).norm();
-                            if best.is_none_or(|(_, bf, bd)| d < bd || (d == bd && (f as usize) < bf)) {
+                            if best
+                                .is_none_or(|(_, bf, bd)| d < bd || (d == bd && (f as usize) < bf))
+                            {
                                 best = Some((q, f as usize, d));
                             }
                         }

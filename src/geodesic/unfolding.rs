@@ -27,7 +27,7 @@
 use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
 use super::source::ResolvedSource;
 use super::surface::{segment_distance, Surface};
-use crate::math::{Point3, Real};
+use crate::math::{angle_between, Point3, Real};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -35,6 +35,12 @@ use std::collections::BinaryHeap;
 const LINE_FRONT: Real = Real::NEG_INFINITY;
 /// Relative tolerance (of the edge length) for a ray crossing an edge at its end.
 const CROSSING_TOLERANCE: Real = 1e-9;
+/// Front id of vertices reached where two fronts met (plane-wave updates).
+const MIXED_FRONT: u64 = u64::MAX - (1 << 40);
+/// Relative excess of the angle sum over 2π below which a vertex counts as flat.
+const FLAT_VERTEX_TOLERANCE: Real = 1e-9;
+/// Relative difference under which an unfolded front and a bend are the same distance.
+const TIE_TOLERANCE: Real = 1e-12;
 /// Source segments searched on each side of a sample when seeding a crossed face.
 const SEED_WINDOW: usize = 4;
 
@@ -47,7 +53,10 @@ impl Eq for Entry {}
 impl Ord for Entry {
     fn cmp(&self, other: &Self) -> Ordering {
         // Min-heap on distance, then vertex id, for a deterministic order.
-        other.d.total_cmp(&self.d).then_with(|| other.v.cmp(&self.v))
+        other
+            .d
+            .total_cmp(&self.d)
+            .then_with(|| other.v.cmp(&self.v))
     }
 }
 impl PartialOrd for Entry {
@@ -56,17 +65,9 @@ impl PartialOrd for Entry {
     }
 }
 
-/// Distance to `(σ, d)` of the best unfolded update of `v` from settled `a`, `b`.
-#[allow(clippy::too_many_arguments)]
-fn unfold(
-    pa: &Point3,
-    da: Real,
-    sa: Real,
-    pb: &Point3,
-    db: Real,
-    sb: Real,
-    pv: &Point3,
-) -> Option<(Real, Real)> {
+/// Distance of `v` unfolded from settled `a`, `b` of the same front (`σ`), if the ray from
+/// the front's virtual source to `v` crosses edge `ab`.
+fn unfold(pa: &Point3, da: Real, sigma: Real, pb: &Point3, db: Real, pv: &Point3) -> Option<Real> {
     let e = pb - pa;
     let c = e.norm();
     if c <= 0.0 {
@@ -80,41 +81,29 @@ fn unfold(
         return None;
     }
     let on_edge = |x: Real| x >= -c * CROSSING_TOLERANCE && x <= c * (1.0 + CROSSING_TOLERANCE);
-    let mut best: Option<(Real, Real)> = None;
-    let mut keep = |d: Real, s: Real| {
-        if d.is_finite() && best.is_none_or(|(bd, _)| d < bd) {
-            best = Some((d, s));
+    if sigma == LINE_FRONT {
+        // Plane wave: unit u with u·(b − a) = d_b − d_a, pointing towards v's side.
+        let ux = (db - da) / c;
+        if ux.abs() >= 1.0 {
+            return None;
         }
-    };
-    for sigma in [sa, sb] {
-        if sigma == LINE_FRONT {
-            // Plane wave: unit u with u·(b − a) = d_b − d_a, pointing towards v's side.
-            let ux = (db - da) / c;
-            if ux.abs() >= 1.0 {
-                continue;
-            }
-            let uy = (1.0 - ux * ux).sqrt();
-            if on_edge(vx - ux * vy / uy) {
-                keep(da + ux * vx + uy * vy, LINE_FRONT);
-            }
-        } else {
-            let (ra, rb) = (da - sigma, db - sigma);
-            if ra < 0.0 || rb < 0.0 {
-                continue;
-            }
-            let sx = (ra * ra - rb * rb + c * c) / (2.0 * c);
-            let h2 = ra * ra - sx * sx;
-            if h2 < -(c * c) * CROSSING_TOLERANCE {
-                continue;
-            }
-            let sy = -h2.max(0.0).sqrt();
-            let x0 = sx + (vx - sx) * (-sy) / (vy - sy);
-            if on_edge(x0) {
-                keep(sigma + ((vx - sx).powi(2) + (vy - sy).powi(2)).sqrt(), sigma);
-            }
+        let uy = (1.0 - ux * ux).sqrt();
+        on_edge(vx - ux * vy / uy).then_some(da + ux * vx + uy * vy)
+    } else {
+        // Point source S at distance d − σ from a and b, on the side away from v.
+        let (ra, rb) = (da - sigma, db - sigma);
+        if ra < 0.0 || rb < 0.0 {
+            return None;
         }
+        let sx = (ra * ra - rb * rb + c * c) / (2.0 * c);
+        let h2 = ra * ra - sx * sx;
+        if h2 < -(c * c) * CROSSING_TOLERANCE {
+            return None;
+        }
+        let sy = -h2.max(0.0).sqrt();
+        let x0 = sx + (vx - sx) * (-sy) / (vy - sy);
+        on_edge(x0).then(|| sigma + ((vx - sx).powi(2) + (vy - sy).powi(2)).sqrt())
     }
-    best
 }
 
 /// Geodesic distance per vertex from `source` on the active faces.
@@ -128,19 +117,31 @@ pub(crate) fn propagate(
     let nv = mesh.vertex_count();
     let mut dist = vec![Real::INFINITY; nv];
     let mut sigma = vec![0.0; nv];
+    // Which virtual source a front comes from: two vertices are unfolded together only when
+    // they share it (mixing fronts would place a fictitious source and underestimate).
+    // Ids: a vertex (source vertex or bend), `nv + sample` for a corner of a source curve,
+    // `u64::MAX − curve` for the line front of a curve.
+    let mut front = vec![0u64; nv];
     let mut settled = vec![false; nv];
     let mut heap = BinaryHeap::new();
-    let mut seed = |v: usize, d: Real, s: Real, dist: &mut Vec<Real>, heap: &mut BinaryHeap<Entry>| {
+    let mut seed = |v: usize,
+                    d: Real,
+                    s: Real,
+                    id: u64,
+                    dist: &mut Vec<Real>,
+                    heap: &mut BinaryHeap<Entry>| {
         if d < dist[v] {
             dist[v] = d;
             sigma[v] = s;
+            front[v] = id;
             heap.push(Entry { d, v: v as u32 });
         }
     };
     for &v in &source.vertices {
-        seed(v as usize, 0.0, 0.0, &mut dist, &mut heap);
+        seed(v as usize, 0.0, 0.0, v as u64, &mut dist, &mut heap);
     }
-    for curve in &source.curves {
+    let mut sample_base = nv as u64;
+    for (ci, curve) in source.curves.iter().enumerate() {
         let n = curve.points.len();
         let segs = if curve.closed { n } else { n - 1 };
         for (i, &f) in curve.faces.iter().enumerate() {
@@ -149,6 +150,7 @@ pub(crate) fn propagate(
                 // Nearest point of the neighbouring source segments: a line front when the
                 // foot is inside a segment, a point front (the source corner) otherwise.
                 let (mut line, mut point) = (Real::INFINITY, Real::INFINITY);
+                let mut corner = 0usize;
                 if n == 1 {
                     point = (p - curve.points[0]).norm();
                 }
@@ -165,23 +167,29 @@ pub(crate) fn propagate(
                     let (d, inside) = segment_distance(&p, &a, &b);
                     if inside {
                         line = line.min(d);
-                    } else {
-                        point = point.min(d);
+                    } else if d < point {
+                        point = d;
+                        let to_a = (p - a).norm() <= (p - b).norm();
+                        corner = if to_a { j } else { (j + 1) % n };
                     }
                 }
                 if line <= point {
-                    seed(v as usize, line, LINE_FRONT, &mut dist, &mut heap);
+                    let id = u64::MAX - ci as u64;
+                    seed(v as usize, line, LINE_FRONT, id, &mut dist, &mut heap);
                 } else if point.is_finite() {
-                    seed(v as usize, point, 0.0, &mut dist, &mut heap);
+                    let id = sample_base + corner as u64;
+                    seed(v as usize, point, 0.0, id, &mut dist, &mut heap);
                 }
             }
         }
+        sample_base += n as u64;
     }
     if heap.is_empty() {
         return Err(GeodesicError::SourceMissesSurface(
             "no vertex could be seeded from the source".into(),
         ));
     }
+    let saddle_or_boundary = saddle_or_boundary_vertices(surface);
     let mut done = 0usize;
     // Each pop either skips a stale entry or settles a vertex; pushes are bounded by
     // seeds + 4 per (settled vertex, incident face), so the loop ends.
@@ -203,20 +211,42 @@ pub(crate) fn propagate(
                 if settled[x] {
                     continue;
                 }
-                // The edge path: the geodesic bends at v (a point front centred there).
-                let mut best = (dist[v] + (pos[x] - pos[v]).norm(), dist[v]);
+                // The edge path through v. Shortest paths bend only at saddle or boundary
+                // vertices (Mitchell, Mount & Papadimitriou 1987, Lemma 3.4); there a new point
+                // front starts at v. Elsewhere the path can only run straight through v (a ray
+                // hitting a vertex), so x stays on v's front.
+                let keeps_front = sigma[v] == dist[v] || !saddle_or_boundary[v];
+                let mut best = if keeps_front {
+                    (dist[v] + (pos[x] - pos[v]).norm(), sigma[v], front[v])
+                } else {
+                    (dist[v] + (pos[x] - pos[v]).norm(), dist[v], v as u64)
+                };
+                let mut unfolded = false;
                 if settled[y] {
-                    if let Some(u) =
-                        unfold(&pos[v], dist[v], sigma[v], &pos[y], dist[y], sigma[y], &pos[x])
-                    {
-                        if u.0 < best.0 {
-                            best = u;
+                    // Same front: unfold its virtual source. Two fronts meeting: the plane-wave
+                    // update of fast marching (Kimmel & Sethian 1998), a front of its own.
+                    let (s, id) = if front[y] == front[v] {
+                        (sigma[v], front[v])
+                    } else {
+                        (LINE_FRONT, MIXED_FRONT)
+                    };
+                    if let Some(u) = unfold(&pos[v], dist[v], s, &pos[y], dist[y], &pos[x]) {
+                        // Ties go to the unfolded front (a ray along an edge is both).
+                        if u <= best.0 + TIE_TOLERANCE * best.0.max(1.0) {
+                            best = (u.min(best.0), s, id);
+                            unfolded = true;
                         }
                     }
                 }
-                if best.0 < dist[x] {
-                    dist[x] = best.0;
+                // An unfolded front equal (to rounding) to a bend found earlier replaces it,
+                // so a ray running along edges keeps its source.
+                let tie = unfolded
+                    && front[x] != best.2
+                    && best.0 <= dist[x] + TIE_TOLERANCE * dist[x].max(1.0);
+                if best.0 < dist[x] || tie {
+                    dist[x] = best.0.min(dist[x]);
                     sigma[x] = best.1;
+                    front[x] = best.2;
                     heap.push(Entry {
                         d: best.0,
                         v: x as u32,
@@ -227,6 +257,31 @@ pub(crate) fn propagate(
     }
     progress("distance", 1.0);
     Ok(dist)
+}
+
+/// Vertices with a total face angle above 2π (saddles) or on the boundary of the active
+/// faces: the only vertices a shortest path may bend at.
+fn saddle_or_boundary_vertices(surface: &Surface) -> Vec<bool> {
+    let mesh = surface.mesh;
+    let nv = mesh.vertex_count();
+    let mut angle = vec![0.0; nv];
+    let mut flag = vec![false; nv];
+    for &f in &surface.faces {
+        let t = mesh.triangles()[f as usize];
+        let p = mesh.corners(f as usize);
+        for k in 0..3 {
+            let (a, b) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+            angle[t[k] as usize] += angle_between(&a, &b);
+            if surface.across(f as usize, k).is_none() {
+                flag[t[k] as usize] = true;
+                flag[t[(k + 1) % 3] as usize] = true;
+            }
+        }
+    }
+    for v in 0..nv {
+        flag[v] |= angle[v] > 2.0 * std::f64::consts::PI * (1.0 + FLAT_VERTEX_TOLERANCE);
+    }
+    flag
 }
 
 #[cfg(test)]
@@ -242,12 +297,12 @@ mod tests {
         );
         let s = Point3::new(0.4, -2.0, 0.0);
         let d = |p: &Point3| (p - s).norm() + 1.5;
-        let (dv, sv) = unfold(&a, d(&a), 1.5, &b, d(&b), 1.5, &v).unwrap();
-        assert!((dv - d(&v)).abs() < 1e-12 && sv == 1.5);
+        let dv = unfold(&a, d(&a), 1.5, &b, d(&b), &v).unwrap();
+        assert!((dv - d(&v)).abs() < 1e-12);
         // A plane wave along (sin 0.3, cos 0.3).
         let u = nalgebra::Vector3::new(libm::sin(0.3), libm::cos(0.3), 0.0);
         let l = |p: &Point3| 5.0 + u.dot(&p.coords);
-        let (dv, _) = unfold(&a, l(&a), LINE_FRONT, &b, l(&b), LINE_FRONT, &v).unwrap();
+        let dv = unfold(&a, l(&a), LINE_FRONT, &b, l(&b), &v).unwrap();
         assert!((dv - l(&v)).abs() < 1e-12);
     }
 }

@@ -136,7 +136,9 @@ impl VoxelField {
         neighbour_offsets()
             .filter_map(|o| self.find([c[0] + o[0], c[1] + o[1], c[2] + o[2]]))
             .min_by(|&a, &b| {
-                (self.centre(a) - p).norm_squared().total_cmp(&(self.centre(b) - p).norm_squared())
+                (self.centre(a) - p)
+                    .norm_squared()
+                    .total_cmp(&(self.centre(b) - p).norm_squared())
             })
     }
 }
@@ -158,7 +160,11 @@ fn estimate(surface: &Surface, l: Real) -> (u64, u64) {
     let pairs = voxels + 2.0 * edges / l + 8.0 * surface.faces.len() as Real;
     let v = voxels.min(1e18) as u64;
     let p = pairs.min(1e18) as u64;
-    (v, v.saturating_mul(BYTES_PER_VOXEL).saturating_add(p.saturating_mul(BYTES_PER_PAIR)))
+    (
+        v,
+        v.saturating_mul(BYTES_PER_VOXEL)
+            .saturating_add(p.saturating_mul(BYTES_PER_PAIR)),
+    )
 }
 
 /// Akenine-Möller (2001): does the axis-aligned box `centre ± h` overlap triangle `t`?
@@ -179,14 +185,9 @@ fn box_overlaps_triangle(centre: &Point3, h: Real, t: &[Point3; 3]) -> bool {
         }
     }
     // 3 box face normals: the triangle's bounding box against the box.
-    for k in 0..3 {
-        let (lo, hi) = (
-            v[0][k].min(v[1][k]).min(v[2][k]),
-            v[0][k].max(v[1][k]).max(v[2][k]),
-        );
-        if lo > h || hi < -h {
-            return false;
-        }
+    let (lo, hi) = (v[0].inf(&v[1]).inf(&v[2]), v[0].sup(&v[1]).sup(&v[2]));
+    if lo.iter().any(|&x| x > h) || hi.iter().any(|&x| x < -h) {
+        return false;
     }
     // The triangle's plane.
     let n = e[0].cross(&e[1]);
@@ -263,7 +264,9 @@ pub(crate) fn voxelise(
         }
         let n = sn.normalize();
         // Dominant axis w of the normal; scan columns over the other two axes.
-        let w = (0..3).max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs())).unwrap_or(2);
+        let w = (0..3)
+            .max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+            .unwrap_or(2);
         let (u, v) = ((w + 1) % 3, (w + 2) % 3);
         let tmin = t[0].inf(&t[1]).inf(&t[2]);
         let tmax = t[0].sup(&t[1]).sup(&t[2]);
@@ -318,7 +321,11 @@ pub(crate) fn voxelise(
         let fnrm = surface.face_normal(f as usize);
         if i == 0 || pairs[i - 1].0 != k {
             keys.push(k);
-            cells.push([(k >> 42) as i32, ((k >> 21) & 0x1F_FFFF) as i32, (k & 0x1F_FFFF) as i32]);
+            cells.push([
+                (k >> 42) as i32,
+                ((k >> 21) & 0x1F_FFFF) as i32,
+                (k & 0x1F_FFFF) as i32,
+            ]);
             normals.push(fnrm);
         } else if let Some(last) = normals.last_mut() {
             *last += fnrm;
@@ -358,7 +365,10 @@ struct Entry {
 impl Eq for Entry {}
 impl Ord for Entry {
     fn cmp(&self, other: &Self) -> Ordering {
-        other.d.total_cmp(&self.d).then_with(|| other.i.cmp(&self.i))
+        other
+            .d
+            .total_cmp(&self.d)
+            .then_with(|| other.i.cmp(&self.i))
     }
 }
 impl PartialOrd for Entry {
@@ -383,7 +393,10 @@ pub(crate) fn propagate(
         if let Some(i) = field.voxel_near(p) {
             if field.distance[i] > 0.0 {
                 field.distance[i] = 0.0;
-                heap.push(Entry { d: 0.0, i: i as u32 });
+                heap.push(Entry {
+                    d: 0.0,
+                    i: i as u32,
+                });
             }
         }
     };
@@ -485,6 +498,10 @@ mod tests {
         assert!(!box_overlaps_triangle(&Point3::new(0.2, 0.2, 0.2), 0.1, &t));
         // Beyond the hypotenuse but inside the bounding box: only the edge axes separate it.
         assert!(!box_overlaps_triangle(&Point3::new(0.7, 0.7, 0.0), 0.1, &t));
-        assert!(box_overlaps_triangle(&Point3::new(0.55, 0.55, 0.0), 0.1, &t));
+        assert!(box_overlaps_triangle(
+            &Point3::new(0.55, 0.55, 0.0),
+            0.1,
+            &t
+        ));
     }
 }

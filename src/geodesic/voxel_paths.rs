@@ -116,12 +116,13 @@ pub(crate) fn order_level(field: &VoxelField, distance: Real, level: u32) -> Vec
             continue;
         }
         grid.within(&pts[start], r, &pts, &alive, &mut near);
-        let c0: Point3 = Point3::from(near.iter().map(|&j| pts[j].coords).sum::<Vector3>() / near.len() as Real);
+        let c0: Point3 =
+            Point3::from(near.iter().map(|&j| pts[j].coords).sum::<Vector3>() / near.len() as Real);
         let v0 = principal(&pts, &near, &c0, &Vector3::new(0.8, 0.5, 0.3).normalize());
         let n0 = mean_normal(&near);
         let mut halves: [Vec<(Point3, Vector3)>; 2] = [Vec::new(), Vec::new()];
         let mut closed = false;
-        for side in 0..2 {
+        for (side, half) in halves.iter_mut().enumerate() {
             let mut x = c0;
             let mut v = if side == 0 { v0 } else { -v0 };
             let mut travelled = 0.0;
@@ -148,7 +149,7 @@ pub(crate) fn order_level(field: &VoxelField, distance: Real, level: u32) -> Vec
                     closed = true;
                     break;
                 }
-                halves[side].push((c, mean_normal(&near)));
+                half.push((c, mean_normal(&near)));
                 x = c;
                 v = dir;
             }
