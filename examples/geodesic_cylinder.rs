@@ -41,47 +41,78 @@ fn main() {
             Point3::new(r * a.cos(), r * a.sin(), 0.0)
         })
         .collect();
-    let source = GeodesicSource::Polyline {
-        points: ring,
-        closed: true,
+    let a0 = 2.0 * PI * 0.37 / around as Real;
+    let generator = vec![
+        Point3::new(r * a0.cos(), r * a0.sin(), 0.0),
+        Point3::new(r * a0.cos(), r * a0.sin(), len),
+    ];
+    let arc = move |p: &Point3| {
+        let mut da = (p.y.atan2(p.x) - a0).rem_euclid(2.0 * PI);
+        if da > PI {
+            da = 2.0 * PI - da;
+        }
+        r * da
     };
-    for method in [Method::Mesh, Method::Voxel] {
-        let params = DistanceParams {
-            method,
-            voxel_size: Some(voxel),
-            ..DistanceParams::default()
-        };
-        let t0 = Instant::now();
-        let field = geodesic_distance(&mesh, &adjacency, &source, &params, &mut |_, _| {})
-            .expect("distance");
-        let t_dist = t0.elapsed().as_secs_f64();
-        let t1 = Instant::now();
-        let path = PathParams {
-            spacing: 10.0,
-            max_level: Some(11),
-            ..PathParams::default()
-        };
-        let lines = field.iso_lines(&mesh, &adjacency, &path).expect("paths");
-        let t_paths = t1.elapsed().as_secs_f64();
-        let err = lines
-            .iter()
-            .flat_map(|l| l.points.iter().map(move |p| (p.z - l.distance).abs()))
-            .fold(0.0, Real::max);
-        let vertex_err = mesh
-            .positions()
-            .iter()
-            .zip(&field.vertex_distance)
-            .map(|(p, d)| (p.z - d).abs())
-            .fold(0.0, Real::max);
-        let (count, bytes) = field
-            .voxels
-            .as_ref()
-            .map_or((0, 0), |v| (v.cells.len(), v.memory_bytes));
-        println!(
-            "{method:?}: distance {t_dist:.3} s, paths {t_paths:.3} s, {} lines ({} closed), \
-             path error {err:.5}, vertex error {vertex_err:.5}, voxels {count} ({bytes} bytes)",
-            lines.len(),
-            lines.iter().filter(|l| l.closed).count()
-        );
+    type Exact = Box<dyn Fn(&Point3) -> Real>;
+    let cases: [(&str, GeodesicSource, Exact, Option<u32>); 2] = [
+        (
+            "ring",
+            GeodesicSource::Polyline {
+                points: ring,
+                closed: true,
+            },
+            Box::new(|p: &Point3| p.z),
+            Some(11),
+        ),
+        (
+            "generator",
+            GeodesicSource::Polyline {
+                points: generator,
+                closed: false,
+            },
+            Box::new(arc),
+            None,
+        ),
+    ];
+    for (name, source, exact, max_level) in &cases {
+        for method in [Method::Mesh, Method::Voxel] {
+            let params = DistanceParams {
+                method,
+                voxel_size: Some(voxel),
+                ..DistanceParams::default()
+            };
+            let t0 = Instant::now();
+            let field = geodesic_distance(&mesh, &adjacency, source, &params, &mut |_, _| {})
+                .expect("distance");
+            let t_dist = t0.elapsed().as_secs_f64();
+            let t1 = Instant::now();
+            let path = PathParams {
+                spacing: 10.0,
+                max_level: *max_level,
+                ..PathParams::default()
+            };
+            let lines = field.iso_lines(&mesh, &adjacency, &path).expect("paths");
+            let t_paths = t1.elapsed().as_secs_f64();
+            let err = lines
+                .iter()
+                .flat_map(|l| l.points.iter().map(|p| (exact(p) - l.distance).abs()))
+                .fold(0.0, Real::max);
+            let vertex_err = mesh
+                .positions()
+                .iter()
+                .zip(&field.vertex_distance)
+                .map(|(p, d)| (exact(p) - d).abs())
+                .fold(0.0, Real::max);
+            let (count, bytes) = field
+                .voxels
+                .as_ref()
+                .map_or((0, 0), |v| (v.cells.len(), v.memory_bytes));
+            println!(
+                "{name} {method:?}: distance {t_dist:.3} s, paths {t_paths:.3} s, {} lines ({} closed), \
+                 path error {err:.5}, vertex error {vertex_err:.5}, voxels {count} ({bytes} bytes)",
+                lines.len(),
+                lines.iter().filter(|l| l.closed).count()
+            );
+        }
     }
 }

@@ -10,19 +10,26 @@
 //! Output: distance per vertex (`+∞` for vertices not reached), 0 on the source.
 //! Cost:   O(V log V) time, O(V + F) memory: each vertex is settled once and updates the
 //!         faces around it.
-//! Deviations (no paper): a vertex carries the kind of front that reached it: a *point* front
+//! Deviations (no paper): a vertex carries the front that reached it: a *point* front
 //!         (`σ` finite: a source vertex, a corner of the source curve, or a vertex the geodesic
-//!         bends around, `σ = d` there) or a *line* front (`σ = −∞`: the interior of a source
-//!         segment), which is unfolded as a plane wave `d_v = d_a + u·(v − a)` with the unit
-//!         direction `u` fitted to `d_a`, `d_b`. Both are exact on developable surfaces, so
-//!         distances from straight source segments (generators, rings of a cylinder, plate
-//!         edges) are exact up to rounding, and curved surfaces are handled face by face at
-//!         second order in the edge length. When no unfolded ray crosses the edge, the
-//!         update falls back to the edge path `d_a + |a v|` (the geodesic bends at `a`).
+//!         bends at, `σ = d` there) or a *line* front (`σ = −∞`: the interior of a source
+//!         segment), unfolded as a plane wave `d_v = d_a + u·(v − a)` with the unit direction
+//!         `u` fitted to `d_a`, `d_b`. Two vertices are unfolded together only when they carry
+//!         the same front (mixing two would invent a source and underestimate); where two
+//!         fronts meet the plane-wave update of fast marching is used (first order). Both
+//!         unfoldings are exact on developable surfaces, so distances from straight source
+//!         segments and from points (generators and rings of a cylinder, plate edges, a vertex
+//!         on folded plates) are exact up to rounding; curved surfaces are handled face by face.
+//!         When no unfolded ray crosses the edge, the update is the edge path `d_a + |a v|`;
+//!         a new point front starts at `a` only if `a` is a saddle or boundary vertex (the
+//!         only vertices shortest paths bend at; Mitchell, Mount & Papadimitriou 1987).
 //!         Vertices of the faces the source crosses start at their straight-line distance to
 //!         the source polyline (exact inside a face). This replaces window propagation
 //!         (Mitchell–Mount–Papadimitriou 1987; Surazhsky et al. 2005): it is not exact on
-//!         non-developable meshes, but the known-answer tests bound its error.
+//!         non-developable meshes; the known-answer tests bound its error (plates: < 1e-6 mm;
+//!         cylinder R 50 with 2 mm edges, against the smooth cylinder: < 0.02 mm; sphere R 50
+//!         with 2.5 mm edges: < 0.03 mm; steep height field, 1 mm edges against 0.25 mm
+//!         edges: < 0.15 mm).
 
 use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
 use super::source::ResolvedSource;

@@ -139,6 +139,12 @@ pub(crate) fn order_level(field: &VoxelField, distance: Real, level: u32) -> Vec
                 if moved < 0.25 * step {
                     break; // no progress: an open end
                 }
+                // Back within one step of the point before last: the walk oscillates at
+                // an end of the band.
+                let n_half = half.len();
+                if n_half >= 2 && (c - half[n_half - 2].0).norm() < step {
+                    break;
+                }
                 let dir = principal(&pts, &near, &c, &((c - x) / moved));
                 travelled += moved;
                 // Closed loop: back within one step of the start after going round. The paper
