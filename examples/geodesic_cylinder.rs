@@ -82,8 +82,12 @@ fn main() {
                 ..DistanceParams::default()
             };
             let t0 = Instant::now();
-            let field = geodesic_distance(&mesh, &adjacency, source, &params, &mut |_, _| {})
-                .expect("distance");
+            let field = geodesic_distance(&mesh, &adjacency, source, &params, &mut |s, f| {
+                if std::env::var("GEO_TRACE").is_ok() {
+                    eprintln!("{s} {f:.2} {:.3}", t0.elapsed().as_secs_f64())
+                }
+            })
+            .expect("distance");
             let t_dist = t0.elapsed().as_secs_f64();
             let t1 = Instant::now();
             let path = PathParams {

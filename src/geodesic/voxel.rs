@@ -65,6 +65,7 @@ struct KeyTable {
     keys: Vec<u64>,
     values: Vec<u32>,
     mask: usize,
+    shift: u32,
 }
 
 impl KeyTable {
@@ -75,6 +76,7 @@ impl KeyTable {
             keys: vec![Self::EMPTY; cap],
             values: vec![0; cap],
             mask: cap - 1,
+            shift: 64 - cap.trailing_zeros(),
         };
         for (i, &k) in keys.iter().enumerate() {
             let mut s = t.slot(k);
@@ -87,7 +89,8 @@ impl KeyTable {
         t
     }
     fn slot(&self, k: u64) -> usize {
-        (k.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 17) as usize & self.mask
+        // The top bits of the product depend on every bit of the key (Knuth, TAOCP 6.4).
+        (k.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> self.shift) as usize
     }
     fn get(&self, k: u64) -> Option<usize> {
         let mut s = self.slot(k);
