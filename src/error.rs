@@ -1,5 +1,6 @@
 //! The crate's error type: one variant per module, each wrapping that module's own enum.
 
+use crate::geodesic::GeodesicError;
 use crate::mesh::{MeshError, StlError};
 use crate::segment::ParamError;
 use crate::spray::SprayError;
@@ -23,6 +24,9 @@ pub enum Error {
     /// A tool path or one of its export options is invalid.
     #[error(transparent)]
     ToolPath(#[from] ToolPathError),
+    /// A geodesic source or parameter is invalid.
+    #[error(transparent)]
+    Geodesic(#[from] GeodesicError),
 }
 
 /// `Result` with the crate's [`Error`].

@@ -27,6 +27,7 @@
 #![deny(unsafe_code)]
 
 pub mod error;
+pub mod geodesic;
 pub mod math;
 pub mod mesh;
 pub mod segment;

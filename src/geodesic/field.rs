@@ -1,0 +1,299 @@
+//! The entry point: a distance field from a source by either method, its iso-distance lines
+//! and the tool path that links them.
+//!
+//! No paper for the linking: levels are taken in increasing distance; within a level the
+//! next line is the one starting nearest to where the tool is; open lines start at their end
+//! nearest the tool (zig-zag) or run the same way as the first open line (one direction);
+//! closed lines start at their point nearest the tool and turn like the first loop (one
+//! direction) or alternately (zig-zag), and end back at their first point. Between passes a
+//! `Link` pose (process off) moves to the next pass's first point.
+//! Cost: O(F) per level for the mesh method plus O(P²) over the P lines of one level for
+//! the nearest-line choice (P is small: the pieces of one level).
+
+use super::iso_lines::{contour, IsoLine};
+use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
+use super::source::{resolve, GeodesicSource};
+use super::surface::{FaceGrid, Surface};
+use super::voxel::{propagate as voxel_propagate, voxelise, VoxelField};
+use super::voxel_paths::order_level;
+use crate::math::{Real, Vector3};
+use crate::mesh::{FaceAdjacency, TriMesh};
+use crate::toolpath::{Pose, PoseKind, ToolPath};
+
+/// Levels at most in one request (a guard against a spacing far below the part size).
+pub const MAX_LEVELS: u32 = 100_000;
+/// Source samples per mean edge length (the source polyline is subdivided this finely).
+const SAMPLES_PER_EDGE: Real = 2.0;
+/// Default voxel edge, in mean edge lengths.
+const DEFAULT_VOXEL_PER_EDGE: Real = 0.25;
+/// Default snapping distance, in mean edge lengths.
+const DEFAULT_SNAP_EDGES: Real = 5.0;
+
+/// Geodesic distance from a source, by the mesh or the voxel method.
+#[derive(Clone, Debug)]
+pub struct DistanceField {
+    /// Which method produced it.
+    pub method: Method,
+    /// Distance per mesh vertex (`+∞` where unreached or outside the faces). For the voxel
+    /// method: the distance of the voxel containing the vertex (or its nearest neighbour).
+    pub vertex_distance: Vec<Real>,
+    /// The voxels (voxel method only).
+    pub voxels: Option<VoxelField>,
+    /// Largest finite distance.
+    pub max_distance: Real,
+    /// Samples of the resolved source (curve points + vertices).
+    pub source_samples: usize,
+    subset: Option<Vec<u32>>,
+}
+
+/// Computes the geodesic distance from `source` on `mesh` (or on `params.faces`), reporting
+/// `(stage, fraction)` to `progress`.
+pub fn geodesic_distance(
+    mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
+    source: &GeodesicSource,
+    params: &DistanceParams,
+    progress: Progress,
+) -> Result<DistanceField, GeodesicError> {
+    let surface = Surface::new(mesh, adjacency, params.faces.as_deref())?;
+    let grid = FaceGrid::new(&surface);
+    let max_snap = match params.max_snap_distance {
+        Some(m) => {
+            super::params::positive("max_snap_distance", m)?;
+            m
+        }
+        None => DEFAULT_SNAP_EDGES * surface.mean_edge,
+    };
+    let voxel_size = match params.voxel_size {
+        Some(l) => {
+            super::params::positive("voxel_size", l)?;
+            l
+        }
+        None => DEFAULT_VOXEL_PER_EDGE * surface.mean_edge,
+    };
+    // The voxel method seeds its own voxels L/2 apart along these samples.
+    let step = surface.mean_edge / SAMPLES_PER_EDGE;
+    let resolved = resolve(&surface, &grid, source, step, max_snap)?;
+    let (vertex_distance, voxels) = match params.method {
+        Method::Mesh => (
+            super::unfolding::propagate(&surface, &resolved, progress)?,
+            None,
+        ),
+        Method::Voxel => {
+            let mut field = voxelise(&surface, voxel_size, params.max_voxel_bytes, progress)?;
+            voxel_propagate(&mut field, &resolved, &surface, progress)?;
+            let mut vd = vec![Real::INFINITY; mesh.vertex_count()];
+            for (v, d) in vd.iter_mut().enumerate() {
+                if !surface.faces_of(v).is_empty() {
+                    if let Some(i) = field.voxel_near(&mesh.positions()[v]) {
+                        *d = field.distance[i];
+                    }
+                }
+            }
+            (vd, Some(field))
+        }
+    };
+    let finite_max =
+        |it: &mut dyn Iterator<Item = Real>| it.filter(|d| d.is_finite()).fold(0.0, Real::max);
+    let max_distance = match &voxels {
+        Some(f) => finite_max(&mut f.distance.iter().copied()),
+        None => finite_max(&mut vertex_distance.iter().copied()),
+    };
+    Ok(DistanceField {
+        method: params.method,
+        vertex_distance,
+        voxels,
+        max_distance,
+        source_samples: resolved.sample_count(),
+        subset: params.faces.clone(),
+    })
+}
+
+impl DistanceField {
+    /// Iso-distance lines at `k · spacing`, `k = 1..=K`, in increasing level, each resampled
+    /// at the point spacing. Mesh method: exact level sets of the piecewise-linear distance;
+    /// voxel method: the paper's step 4.
+    pub fn iso_lines(
+        &self,
+        mesh: &TriMesh,
+        adjacency: &FaceAdjacency,
+        params: &PathParams,
+    ) -> Result<Vec<IsoLine>, GeodesicError> {
+        params.validate()?;
+        let surface = Surface::new(mesh, adjacency, self.subset.as_deref())?;
+        let top = (self.max_distance / params.spacing).floor();
+        if top > MAX_LEVELS as Real {
+            return Err(GeodesicError::BadParam {
+                name: "spacing",
+                value: params.spacing,
+                why: "gives more than 100000 levels over the largest distance",
+            });
+        }
+        let mut k_max = top as u32;
+        if let Some(m) = params.max_level {
+            k_max = k_max.min(m);
+        }
+        let point_spacing = params.point_spacing.unwrap_or(params.spacing / 4.0);
+        let mut out = Vec::new();
+        for k in 1..=k_max {
+            let d = k as Real * params.spacing;
+            let lines = match &self.voxels {
+                Some(field) => order_level(field, d, k),
+                None => contour(&surface, &self.vertex_distance, d),
+            };
+            for mut line in lines {
+                line.level = k;
+                out.push(line.resampled(point_spacing));
+            }
+        }
+        Ok(out)
+    }
+
+    /// The iso-lines ordered and linked into a tool path (tool axis = −surface normal).
+    pub fn tool_path(
+        &self,
+        mesh: &TriMesh,
+        adjacency: &FaceAdjacency,
+        params: &PathParams,
+    ) -> Result<ToolPath, GeodesicError> {
+        let lines = self.iso_lines(mesh, adjacency, params)?;
+        let ordered = link(lines, params.order);
+        let mut poses = Vec::new();
+        for (pass, line) in ordered.iter().enumerate() {
+            let tangents = line.tangents();
+            let mut idx: Vec<usize> = (0..line.points.len()).collect();
+            if line.closed {
+                idx.push(0);
+            }
+            for (j, &i) in idx.iter().enumerate() {
+                let kind = if j == 0 && pass > 0 {
+                    PoseKind::Link
+                } else {
+                    PoseKind::Pass
+                };
+                if j == 0 && pass > 0 {
+                    // Link to the start, then the pass itself starts there.
+                    poses.push(pose(line, &tangents, i, kind, pass));
+                }
+                poses.push(pose(line, &tangents, i, PoseKind::Pass, pass));
+            }
+        }
+        let path = ToolPath {
+            poses,
+            speed: params.speed,
+            link_speed: params.link_speed,
+            notes: vec![format!(
+                "geodesic passes: {} method, spacing {}, {} passes",
+                match self.method {
+                    Method::Mesh => "mesh",
+                    Method::Voxel => "voxel",
+                },
+                params.spacing,
+                ordered.len()
+            )],
+        };
+        path.validate().map_err(|e| {
+            GeodesicError::BadSource(format!("the generated tool path is invalid: {e}"))
+        })?;
+        Ok(path)
+    }
+}
+
+fn pose(line: &IsoLine, tangents: &[Vector3], i: usize, kind: PoseKind, pass: usize) -> Pose {
+    Pose {
+        position: line.points[i],
+        axis: -line.normals[i],
+        travel: tangents[i],
+        kind,
+        pass: pass as u32,
+    }
+}
+
+/// Vector area of a closed line (its turning sense about its mean axis).
+fn vector_area(line: &IsoLine) -> Vector3 {
+    let n = line.points.len();
+    (0..n)
+        .map(|i| {
+            line.points[i]
+                .coords
+                .cross(&line.points[(i + 1) % n].coords)
+        })
+        .sum()
+}
+
+/// Orders lines level by level, nearest first, and orients them (see the file header).
+pub(crate) fn link(mut lines: Vec<IsoLine>, order: LinkOrder) -> Vec<IsoLine> {
+    let mut out: Vec<IsoLine> = Vec::with_capacity(lines.len());
+    let mut first_open: Option<Vector3> = None;
+    let mut first_loop: Option<Vector3> = None;
+    let mut loops_done = 0usize;
+    lines.sort_by_key(|l| l.level);
+    let mut rest = lines.into_iter().peekable();
+    while let Some(first) = rest.next() {
+        let mut level = vec![first];
+        while rest.peek().is_some_and(|l| l.level == level[0].level) {
+            level.extend(rest.next());
+        }
+        while !level.is_empty() {
+            let here = out.last().and_then(|l| l.points.last().copied());
+            let dist = |l: &IsoLine| match here {
+                None => 0.0,
+                Some(h) => l
+                    .points
+                    .iter()
+                    .map(|p| (p - h).norm())
+                    .fold(Real::MAX, Real::min),
+            };
+            let pick = (0..level.len())
+                .min_by(|&a, &b| dist(&level[a]).total_cmp(&dist(&level[b])))
+                .unwrap_or(0);
+            let mut line = level.swap_remove(pick);
+            if line.closed {
+                let area = vector_area(&line);
+                let want = match (first_loop, order) {
+                    (None, _) => area,
+                    (Some(f), LinkOrder::OneDirection) => f,
+                    (Some(f), LinkOrder::ZigZag) => {
+                        if loops_done % 2 == 0 {
+                            f
+                        } else {
+                            -f
+                        }
+                    }
+                };
+                if area.dot(&want) < 0.0 {
+                    line.points.reverse();
+                    line.normals.reverse();
+                }
+                first_loop.get_or_insert(vector_area(&line));
+                loops_done += 1;
+                if let Some(h) = here {
+                    let s = (0..line.points.len())
+                        .min_by(|&a, &b| {
+                            (line.points[a] - h)
+                                .norm()
+                                .total_cmp(&(line.points[b] - h).norm())
+                        })
+                        .unwrap_or(0);
+                    line.points.rotate_left(s);
+                    line.normals.rotate_left(s);
+                }
+            } else {
+                let (a, b) = (line.points[0], line.points[line.points.len() - 1]);
+                let flip = match (order, first_open, here) {
+                    (LinkOrder::OneDirection, Some(f), _) => (b - a).dot(&f) < 0.0,
+                    (_, _, Some(h)) => (b - h).norm() < (a - h).norm(),
+                    _ => false,
+                };
+                if flip {
+                    line.points.reverse();
+                    line.normals.reverse();
+                }
+                let n = line.points.len();
+                first_open.get_or_insert(line.points[n - 1] - line.points[0]);
+            }
+            out.push(line);
+        }
+    }
+    out
+}

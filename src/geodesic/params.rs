@@ -1,0 +1,171 @@
+//! Parameters, errors and the progress callback shared by the geodesic module.
+
+use crate::math::Real;
+
+/// A geodesic input is invalid; every message names the parameter and what is allowed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GeodesicError {
+    /// A numeric parameter is NaN, infinite or out of range.
+    #[error("geodesic parameter {name} = {value} is invalid: {why}")]
+    BadParam {
+        /// Parameter name as the caller writes it.
+        name: &'static str,
+        /// The value given.
+        value: Real,
+        /// What is allowed.
+        why: &'static str,
+    },
+    /// The source does not touch the surface (or the selected faces).
+    #[error("the geodesic source misses the surface: {0}")]
+    SourceMissesSurface(String),
+    /// The source is empty or malformed (too few points, a vertex id out of range, …).
+    #[error("the geodesic source is invalid: {0}")]
+    BadSource(String),
+    /// The face subset is empty or names a face that does not exist.
+    #[error("the face set is invalid: {0}")]
+    BadFaces(String),
+    /// The voxel size would need more memory than allowed.
+    #[error(
+        "voxel size {voxel_size} is too small: about {estimated_voxels} voxels ({estimated_bytes} bytes) \
+         would exceed the memory limit of {limit_bytes} bytes; use a voxel size of at least {min_size:.4}"
+    )]
+    VoxelTooSmall {
+        /// The voxel edge requested.
+        voxel_size: Real,
+        /// Estimated voxel count.
+        estimated_voxels: u64,
+        /// Estimated bytes.
+        estimated_bytes: u64,
+        /// The limit.
+        limit_bytes: u64,
+        /// The smallest voxel edge that fits.
+        min_size: Real,
+    },
+    /// A bounded loop reached its cap (a guard against pathological input, never a hang).
+    #[error("geodesic computation stopped: {0}")]
+    LimitExceeded(String),
+}
+
+/// Which distance computation to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Per-vertex distance on the triangle mesh by unfolded wavefront propagation.
+    Mesh,
+    /// The paper's voxel front propagation (Li & Zhang 2021, steps 1–3).
+    Voxel,
+}
+
+/// Parameters of [`geodesic_distance`](super::geodesic_distance).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DistanceParams {
+    /// Mesh or voxel method.
+    pub method: Method,
+    /// Voxel edge `L` (mesh unit) for the voxel method; `None`: mean edge length / 4.
+    pub voxel_size: Option<Real>,
+    /// Memory limit for the voxel method, bytes (refused before allocating if exceeded).
+    pub max_voxel_bytes: u64,
+    /// Restrict the computation to these faces (a patch); `None`: the whole mesh.
+    pub faces: Option<Vec<u32>>,
+    /// Source points farther than this from the surface are refused; `None`: 5 mean edge
+    /// lengths.
+    pub max_snap_distance: Option<Real>,
+}
+
+impl Default for DistanceParams {
+    fn default() -> Self {
+        DistanceParams {
+            method: Method::Mesh,
+            voxel_size: None,
+            max_voxel_bytes: 1 << 30,
+            faces: None,
+            max_snap_distance: None,
+        }
+    }
+}
+
+/// How consecutive passes are joined.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LinkOrder {
+    /// Every pass starts at the end nearest to where the previous one stopped (alternating).
+    ZigZag,
+    /// Every pass runs in the same direction as the first one.
+    OneDirection,
+}
+
+/// Parameters of iso-distance paths and their tool path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathParams {
+    /// Geodesic distance between neighbouring passes (mesh unit), > 0.
+    pub spacing: Real,
+    /// Distance between consecutive points of a pass; `None`: spacing / 4.
+    pub point_spacing: Option<Real>,
+    /// Highest level `K` (levels `1..=K`); `None`: every level up to the largest distance.
+    pub max_level: Option<u32>,
+    /// Zig-zag or one direction.
+    pub order: LinkOrder,
+    /// Process speed (mesh unit per second).
+    pub speed: Real,
+    /// Link speed (mesh unit per second).
+    pub link_speed: Real,
+}
+
+impl Default for PathParams {
+    fn default() -> Self {
+        PathParams {
+            spacing: 10.0,
+            point_spacing: None,
+            max_level: None,
+            order: LinkOrder::ZigZag,
+            speed: 10.0,
+            link_speed: 100.0,
+        }
+    }
+}
+
+impl PathParams {
+    /// Spacing from a bead width and an overlap factor (the paper: 6.4 mm × 0.738 ≈ 4.7 mm).
+    pub fn from_bead(bead_width: Real, overlap_factor: Real) -> Result<Self, GeodesicError> {
+        positive("bead_width", bead_width)?;
+        if !(overlap_factor.is_finite() && overlap_factor > 0.0 && overlap_factor <= 1.0) {
+            return Err(GeodesicError::BadParam {
+                name: "overlap_factor",
+                value: overlap_factor,
+                why: "must be in (0, 1]",
+            });
+        }
+        Ok(PathParams {
+            spacing: bead_width * overlap_factor,
+            ..PathParams::default()
+        })
+    }
+
+    /// Checks every field.
+    pub fn validate(&self) -> Result<(), GeodesicError> {
+        positive("spacing", self.spacing)?;
+        if let Some(p) = self.point_spacing {
+            positive("point_spacing", p)?;
+        }
+        positive("speed", self.speed)?;
+        positive("link_speed", self.link_speed)?;
+        Ok(())
+    }
+}
+
+/// `Ok` when `value` is finite and > 0, else a [`GeodesicError::BadParam`] naming it.
+pub(crate) fn positive(name: &'static str, value: Real) -> Result<(), GeodesicError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(GeodesicError::BadParam {
+            name,
+            value,
+            why: "must be finite and > 0",
+        })
+    }
+}
+
+/// Progress callback: `(stage, fraction in [0, 1])`.
+pub type Progress<'a> = &'a mut dyn FnMut(&str, f64);
+
+/// How often (in processed items) long loops report progress.
+pub(crate) const PROGRESS_EVERY: usize = 1 << 16;

@@ -1,0 +1,333 @@
+//! The part of a mesh the geodesic module works on: the active faces (all, or a patch), the
+//! faces around each vertex, vertex normals, and a uniform grid for closest-point queries.
+//!
+//! No paper for the grid: faces are binned by bounding box into cubic cells of about two mean
+//! edge lengths (grown so there are at most 4 cells a face), and a query scans rings of cells
+//! around the point until the ring's distance exceeds the best hit (Ericson, "Real-Time
+//! Collision Detection", 2005, §5.1.5 for the closest point on a triangle).
+//! Cost: O(F) to build; a query visits O(1) cells on a surface of bounded face size.
+
+use super::params::GeodesicError;
+use crate::math::{Point3, Real, Vector3};
+use crate::mesh::{FaceAdjacency, TriMesh, NO_FACE};
+
+/// Cells per active face at most in the closest-point grid.
+const GRID_CELLS_PER_FACE: usize = 4;
+
+/// Active faces with the derived data every method needs.
+pub(crate) struct Surface<'a> {
+    pub mesh: &'a TriMesh,
+    pub adjacency: &'a FaceAdjacency,
+    /// `active[f]`: face `f` takes part.
+    pub active: Vec<bool>,
+    /// Active face ids, ascending.
+    pub faces: Vec<u32>,
+    /// CSR offsets into `vertex_faces` per vertex.
+    vertex_face_start: Vec<u32>,
+    vertex_faces: Vec<u32>,
+    /// Unit area-weighted vertex normals (zero for vertices of no active face).
+    pub vertex_normals: Vec<Vector3>,
+    /// Mean active edge length.
+    pub mean_edge: Real,
+    /// Total active area.
+    pub area: Real,
+}
+
+impl<'a> Surface<'a> {
+    /// Active faces from an optional subset; refuses an empty set or an id out of range.
+    pub fn new(
+        mesh: &'a TriMesh,
+        adjacency: &'a FaceAdjacency,
+        subset: Option<&[u32]>,
+    ) -> Result<Self, GeodesicError> {
+        let nf = mesh.triangle_count();
+        if adjacency.face_count() != nf {
+            return Err(GeodesicError::BadFaces(format!(
+                "the adjacency has {} faces but the mesh {nf}",
+                adjacency.face_count()
+            )));
+        }
+        let mut active = vec![subset.is_none(); nf];
+        if let Some(set) = subset {
+            if set.is_empty() {
+                return Err(GeodesicError::BadFaces("faces is empty".into()));
+            }
+            for &f in set {
+                if f as usize >= nf {
+                    return Err(GeodesicError::BadFaces(format!(
+                        "face {f} does not exist (the mesh has {nf} faces)"
+                    )));
+                }
+                active[f as usize] = true;
+            }
+        }
+        let faces: Vec<u32> = (0..nf as u32).filter(|&f| active[f as usize]).collect();
+        let nv = mesh.vertex_count();
+        let mut vertex_face_start = vec![0u32; nv + 1];
+        for &f in &faces {
+            for v in mesh.triangles()[f as usize] {
+                vertex_face_start[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..nv {
+            vertex_face_start[v + 1] += vertex_face_start[v];
+        }
+        let mut fill = vertex_face_start.clone();
+        let mut vertex_faces = vec![0u32; faces.len() * 3];
+        let mut normals = vec![Vector3::zeros(); nv];
+        let (mut edge_sum, mut area) = (0.0, 0.0);
+        for &f in &faces {
+            let t = mesh.triangles()[f as usize];
+            let n = mesh.scaled_normal(f as usize);
+            area += 0.5 * n.norm();
+            let p = mesh.corners(f as usize);
+            edge_sum += (p[1] - p[0]).norm() + (p[2] - p[1]).norm() + (p[0] - p[2]).norm();
+            for v in t {
+                vertex_faces[fill[v as usize] as usize] = f;
+                fill[v as usize] += 1;
+                normals[v as usize] += n;
+            }
+        }
+        for n in &mut normals {
+            let len = n.norm();
+            if len > 0.0 {
+                *n /= len;
+            }
+        }
+        Ok(Surface {
+            mesh,
+            adjacency,
+            active,
+            mean_edge: edge_sum / (3 * faces.len()).max(1) as Real,
+            faces,
+            vertex_face_start,
+            vertex_faces,
+            vertex_normals: normals,
+            area,
+        })
+    }
+
+    /// Active faces around vertex `v`.
+    pub fn faces_of(&self, v: usize) -> &[u32] {
+        let (a, b) = (self.vertex_face_start[v], self.vertex_face_start[v + 1]);
+        &self.vertex_faces[a as usize..b as usize]
+    }
+
+    /// The active face across slot `k` of face `f`, if any.
+    pub fn across(&self, f: usize, k: usize) -> Option<usize> {
+        let g = self.adjacency.neighbours(f)[k];
+        (g != NO_FACE && self.active[g as usize]).then_some(g as usize)
+    }
+
+    /// A unit normal at a point of face `f`: the face normal (vertex normals are for output).
+    pub fn face_normal(&self, f: usize) -> Vector3 {
+        let n = self.mesh.scaled_normal(f);
+        let len = n.norm();
+        if len > 0.0 {
+            n / len
+        } else {
+            Vector3::z()
+        }
+    }
+
+    /// Unit normal interpolated from the vertex normals of edge `(a, b)` at parameter `t`.
+    pub fn edge_normal(&self, a: usize, b: usize, t: Real) -> Vector3 {
+        let n = self.vertex_normals[a] * (1.0 - t) + self.vertex_normals[b] * t;
+        let len = n.norm();
+        if len > 0.0 {
+            n / len
+        } else {
+            Vector3::z()
+        }
+    }
+}
+
+/// Uniform grid of active faces for closest-point queries.
+pub(crate) struct FaceGrid {
+    origin: Point3,
+    cell: Real,
+    dims: [usize; 3],
+    start: Vec<u32>,
+    faces: Vec<u32>,
+}
+
+impl FaceGrid {
+    /// Bins the active faces of `surface`.
+    pub fn new(surface: &Surface) -> Self {
+        let mesh = surface.mesh;
+        let (mut lo, mut hi) = (Point3::from([Real::MAX; 3]), Point3::from([Real::MIN; 3]));
+        for &f in &surface.faces {
+            for p in mesh.corners(f as usize) {
+                lo = lo.inf(&p);
+                hi = hi.sup(&p);
+            }
+        }
+        let extent = hi - lo;
+        let max_cells = (surface.faces.len() * GRID_CELLS_PER_FACE).max(1) as Real;
+        let mut cell = (2.0 * surface.mean_edge)
+            .max(extent.max() * 1e-6)
+            .max(Real::MIN_POSITIVE);
+        // Grow the cell until the grid has at most GRID_CELLS_PER_FACE cells a face (≤ 64 rounds:
+        // each doubles the cell).
+        let dims_for = |c: Real| extent.map(|e| ((e / c).floor() as usize + 1).max(1));
+        for _ in 0..64 {
+            let d = dims_for(cell);
+            if (d.x as Real) * (d.y as Real) * (d.z as Real) <= max_cells {
+                break;
+            }
+            cell *= 2.0;
+        }
+        let d = dims_for(cell);
+        let dims = [d.x, d.y, d.z];
+        let mut grid = FaceGrid {
+            origin: lo,
+            cell,
+            dims,
+            start: vec![0; dims[0] * dims[1] * dims[2] + 1],
+            faces: Vec::new(),
+        };
+        for pass in 0..2 {
+            let mut fill = grid.start.clone();
+            for &f in &surface.faces {
+                let c = mesh.corners(f as usize);
+                let (a, b) = (
+                    grid.cell_of(&c[0].inf(&c[1]).inf(&c[2])),
+                    grid.cell_of(&c[0].sup(&c[1]).sup(&c[2])),
+                );
+                for x in a[0]..=b[0] {
+                    for y in a[1]..=b[1] {
+                        for z in a[2]..=b[2] {
+                            let i = grid.index([x, y, z]);
+                            if pass == 0 {
+                                grid.start[i + 1] += 1;
+                            } else {
+                                grid.faces[fill[i] as usize] = f;
+                                fill[i] += 1;
+                            }
+                        }
+                    }
+                }
+            }
+            if pass == 0 {
+                for i in 0..grid.start.len() - 1 {
+                    grid.start[i + 1] += grid.start[i];
+                }
+                grid.faces = vec![0; *grid.start.last().unwrap_or(&0) as usize];
+            }
+        }
+        grid
+    }
+
+    fn cell_of(&self, p: &Point3) -> [usize; 3] {
+        let mut c = [0; 3];
+        for k in 0..3 {
+            let x = ((p[k] - self.origin[k]) / self.cell).floor();
+            c[k] = if x.is_nan() || x < 0.0 {
+                0
+            } else {
+                (x as usize).min(self.dims[k] - 1)
+            };
+        }
+        c
+    }
+
+    fn index(&self, c: [usize; 3]) -> usize {
+        (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
+    }
+
+    /// The closest point of the active surface to `p`: `(point, face, distance)`.
+    pub fn closest(&self, mesh: &TriMesh, p: &Point3) -> Option<(Point3, usize, Real)> {
+        let c = self.cell_of(p);
+        let mut best: Option<(Point3, usize, Real)> = None;
+        let max_ring = self.dims.iter().copied().max().unwrap_or(1);
+        for r in 0..=max_ring {
+            if let Some((_, _, d)) = best {
+                // Cells beyond ring r - 1 are at least (r - 1)·cell away.
+                if d <= (r as Real - 1.0) * self.cell {
+                    break;
+                }
+            }
+            let lo = c.map(|x| x.saturating_sub(r));
+            let hi = [0, 1, 2].map(|k| (c[k] + r).min(self.dims[k] - 1));
+            for z in lo[2]..=hi[2] {
+                for y in lo[1]..=hi[1] {
+                    for x in lo[0]..=hi[0] {
+                        let ring = x.abs_diff(c[0]).max(y.abs_diff(c[1])).max(z.abs_diff(c[2]));
+                        if ring != r {
+                            continue;
+                        }
+                        let i = self.index([x, y, z]);
+                        for &f in &self.faces[self.start[i] as usize..self.start[i + 1] as usize] {
+                            let q = closest_on_triangle(p, &mesh.corners(f as usize));
+                            let d = (q - p).norm();
+                            if best
+                                .is_none_or(|(_, bf, bd)| d < bd || (d == bd && (f as usize) < bf))
+                            {
+                                best = Some((q, f as usize, d));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+/// Closest point of triangle `t` to `p` (Ericson 2005, §5.1.5, by Voronoi regions).
+pub(crate) fn closest_on_triangle(p: &Point3, t: &[Point3; 3]) -> Point3 {
+    let (a, b, c) = (t[0], t[1], t[2]);
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = va + vb + vc;
+    if denom.abs() < Real::MIN_POSITIVE {
+        // Collapsed triangle: the closest of its vertices is good enough.
+        return *[a, b, c]
+            .iter()
+            .min_by(|x, y| (*x - p).norm_squared().total_cmp(&(*y - p).norm_squared()))
+            .unwrap_or(&a);
+    }
+    a + ab * (vb / denom) + ac * (vc / denom)
+}
+
+/// Distance from `p` to segment `ab` and whether the foot is inside the segment (not an end).
+pub(crate) fn segment_distance(p: &Point3, a: &Point3, b: &Point3) -> (Real, bool) {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    if len2 <= 0.0 {
+        return ((p - a).norm(), false);
+    }
+    let t = (p - a).dot(&ab) / len2;
+    if t <= 0.0 {
+        ((p - a).norm(), false)
+    } else if t >= 1.0 {
+        ((p - b).norm(), false)
+    } else {
+        ((p - (a + ab * t)).norm(), true)
+    }
+}
