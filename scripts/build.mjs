@@ -32,7 +32,10 @@ function run(cmd, args) {
 }
 
 // What each exported class's use after free() should tell the user to do instead.
-const AGAIN = { Mesh: 'load the file again', Segmentation: 'segment the mesh again' };
+const AGAIN = {
+  Mesh: 'load the file again', Segmentation: 'segment the mesh again',
+  DistanceField: 'compute the distance again', ToolPath: 'build the tool path again',
+};
 
 /**
  * Appends to the wasm-bindgen glue a guard for every exported class, so that

@@ -1,7 +1,7 @@
 //! `Mesh`: an imported STL held on the Rust side (JavaScript must call `free()`).
 
 use super::params::{read_bytes, read_callback, read_index_list};
-use super::{progress_fn, Segmentation, SprayPlan};
+use super::{progress_fn, DistanceField, Segmentation, SprayPlan};
 use crate::mesh::{import_stl, ImportedMesh};
 use std::rc::Rc;
 use wasm_bindgen::prelude::*;
@@ -100,5 +100,20 @@ impl Mesh {
             &mut progress_fn(on_progress),
         )?;
         Ok(SprayPlan::new(plan))
+    }
+
+    /// Geodesic distance from `source` (see `GeodesicSource`) over the mesh or
+    /// `params.faces`, by `params.method` ("mesh", default, or "voxel" with `voxelSize`).
+    /// Throws an `Error` naming a bad source or parameter. `onProgress(stage, fraction)` is
+    /// optional.
+    #[wasm_bindgen(js_name = geodesicDistance)]
+    pub fn geodesic_distance(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "GeodesicSource")] source: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "GeodesicParams")] params: JsValue,
+        #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
+        on_progress: Option<JsValue>,
+    ) -> Result<DistanceField, JsError> {
+        super::geodesic::distance_field(&self.inner, &source, &params, on_progress)
     }
 }

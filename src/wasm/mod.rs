@@ -2,16 +2,19 @@
 //! function and convert back. Names are camelCase through `js_name`. Every failure reaches
 //! JavaScript as an `Error` whose message is the core's; a panic is a bug.
 
+mod geodesic;
 mod mesh;
 mod params;
 mod segment;
 mod spray;
 mod toolpath;
 
+pub use geodesic::DistanceField;
 pub use mesh::Mesh;
 pub use params::{ArgError, ParamReader, MAX_DEPTH};
 pub use segment::Segmentation;
 pub use spray::SprayPlan;
+pub use toolpath::ToolPathHandle;
 
 use wasm_bindgen::prelude::*;
 

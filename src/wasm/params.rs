@@ -356,6 +356,12 @@ impl ParamReader {
         Ok(Some(out))
     }
 
+    /// The raw value of `key` (`None` when absent or `undefined`), for a caller that
+    /// dispatches on its type itself (a list of points or ids, "mesh" or a number).
+    pub(crate) fn optional_value(&self, key: &'static str) -> Result<Option<JsValue>, ArgError> {
+        self.get(key)
+    }
+
     /// A nested parameter object with its own declared `keys`, read with its own reader
     /// (messages say "key.inner"). Refused beyond [`MAX_DEPTH`], so a schema cannot recurse
     /// without bound.
@@ -511,4 +517,73 @@ pub(crate) fn read_index_list(
         out.push(integer(&item, &format!("{name}[{i}]"), 0, u32::MAX as i64)? as u32);
     }
     Ok(Some(out))
+}
+
+/// Largest element count of a number list (point coordinates): more than any source needs.
+const MAX_NUMBER_LIST: u32 = 1 << 26;
+
+/// A list of numbers (point coordinates): a `Float64Array`, a `Float32Array` or an array of
+/// numbers, whose length is a multiple of `group` (3 for xyz). NaN and ±Infinity are refused
+/// by name with their index. `name` names the argument in messages.
+pub(crate) fn read_number_list(
+    value: &JsValue,
+    name: &str,
+    group: u32,
+) -> Result<Vec<f64>, ArgError> {
+    let wanted = || {
+        format!(
+            "{name} must be a Float64Array or an array of numbers ({group} per point), got {}",
+            describe(value)
+        )
+    };
+    let out = if let Some(typed) = value.dyn_ref::<js_sys::Float64Array>() {
+        check_list_length(typed.length(), name)?;
+        typed.to_vec()
+    } else if let Some(typed) = value.dyn_ref::<js_sys::Float32Array>() {
+        check_list_length(typed.length(), name)?;
+        typed.to_vec().into_iter().map(f64::from).collect()
+    } else if is_array(value).unwrap_or(false) {
+        let array: &js_sys::Array = value.unchecked_ref();
+        check_list_length(array.length(), name)?;
+        let mut out = Vec::with_capacity(array.length() as usize);
+        for i in 0..array.length() {
+            let item = Reflect::get_u32(value, i).map_err(|e| {
+                ArgError(format!(
+                    "reading {name}[{i}] threw: {}",
+                    exception_message(&e)
+                ))
+            })?;
+            out.push(item.as_f64().ok_or_else(|| {
+                ArgError(format!(
+                    "{name}[{i}] must be a number, got {}",
+                    describe(&item)
+                ))
+            })?);
+        }
+        out
+    } else {
+        return Err(ArgError(wanted()));
+    };
+    if out.len() % group as usize != 0 {
+        return Err(ArgError(format!(
+            "{name} has {} numbers, not a multiple of {group} ({group} per point)",
+            out.len()
+        )));
+    }
+    if let Some(i) = out.iter().position(|x| !x.is_finite()) {
+        return Err(ArgError(format!(
+            "{name}[{i}] must be a finite number, got {}",
+            Compact(out[i])
+        )));
+    }
+    Ok(out)
+}
+
+fn check_list_length(length: u32, name: &str) -> Result<(), ArgError> {
+    if length > MAX_NUMBER_LIST {
+        return Err(ArgError(format!(
+            "{name} has {length} entries, more than the {MAX_NUMBER_LIST} the engine takes"
+        )));
+    }
+    Ok(())
 }

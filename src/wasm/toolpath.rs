@@ -33,3 +33,92 @@ pub(crate) fn export_options_from_js(value: &JsValue) -> Result<ExportOptions, J
     }
     Ok(options)
 }
+
+/// A tool path (geodesic passes): poses with their kind and pass, and the robot exports.
+#[wasm_bindgen(js_name = ToolPath)]
+pub struct ToolPathHandle(pub(crate) crate::toolpath::ToolPath);
+
+#[wasm_bindgen(js_class = ToolPath)]
+impl ToolPathHandle {
+    /// Number of poses.
+    #[wasm_bindgen(getter, js_name = poseCount)]
+    pub fn pose_count(&self) -> u32 {
+        self.0.poses.len() as u32
+    }
+
+    /// Number of passes (one more than the largest pass index; 0 when empty).
+    #[wasm_bindgen(getter, js_name = passCount)]
+    pub fn pass_count(&self) -> u32 {
+        self.0.poses.iter().map(|p| p.pass + 1).max().unwrap_or(0)
+    }
+
+    /// Positions, flat `[x0, y0, z0, x1, …]` in the mesh's unit.
+    pub fn positions(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(3 * self.0.poses.len());
+        for p in &self.0.poses {
+            out.extend_from_slice(&[p.position.x, p.position.y, p.position.z]);
+        }
+        out
+    }
+
+    /// Unit tool axes (from the tool towards the part), flat xyz.
+    pub fn axes(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(3 * self.0.poses.len());
+        for p in &self.0.poses {
+            out.extend_from_slice(&[p.axis.x, p.axis.y, p.axis.z]);
+        }
+        out
+    }
+
+    /// Kind code per pose: 0 pass, 1 straight transition, 2 arc, 3 extension, 4 link
+    /// (process off), 5 approach, 6 retract.
+    pub fn kinds(&self) -> Vec<u8> {
+        self.0.poses.iter().map(|p| p.kind.code()).collect()
+    }
+
+    /// Pass index per pose.
+    #[wasm_bindgen(js_name = passOf)]
+    pub fn pass_of(&self) -> Vec<u32> {
+        self.0.poses.iter().map(|p| p.pass).collect()
+    }
+
+    /// The path as CSV (positions in mm: give `mmPerUnit` for a file not in mm).
+    #[wasm_bindgen(js_name = toCsv)]
+    pub fn to_csv(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
+    ) -> Result<String, JsError> {
+        let options = export_options_from_js(&opts)?;
+        Ok(crate::toolpath::to_csv(&self.0, &options)?)
+    }
+
+    /// The path as JSON (positions in mm: give `mmPerUnit` for a file not in mm).
+    #[wasm_bindgen(js_name = toJson)]
+    pub fn to_json(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
+    ) -> Result<String, JsError> {
+        let options = export_options_from_js(&opts)?;
+        Ok(crate::toolpath::to_json(&self.0, &options)?)
+    }
+
+    /// ABB RAPID modules, one string per file (main module first).
+    #[wasm_bindgen(js_name = toRapid)]
+    pub fn to_rapid(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
+    ) -> Result<Vec<String>, JsError> {
+        let options = export_options_from_js(&opts)?;
+        Ok(crate::toolpath::to_rapid(&self.0, &options)?)
+    }
+
+    /// KUKA KRL `.src` files, one string per file (main program first).
+    #[wasm_bindgen(js_name = toKrl)]
+    pub fn to_krl(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
+    ) -> Result<Vec<String>, JsError> {
+        let options = export_options_from_js(&opts)?;
+        Ok(crate::toolpath::to_krl(&self.0, &options)?)
+    }
+}
