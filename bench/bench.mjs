@@ -14,6 +14,12 @@
 // Spray cases: a generated cylindrical skin panel; Mesh.fromStl as the yardstick, one
 // planSpray (plan + simulate at one spacing) and one spacing search (maxError 0.2), with the
 // evaluation samples per second of the single plan. `npm run bench -- spray` runs only those.
+// Geodesic cases: an open cylinder R 50 mm × 120 mm (the paper's model 2) with the bottom
+// ring as source, where the exact distance is z, and a wavy height field z = A·sin(2πx/λ)
+// extruded along y with the edge x = 0 as source, where it is the arc length of the profile;
+// distance + iso-paths (spacing 10 mm) + tool path by both methods (voxel edge
+// GEODESIC_VOXEL mm, default 0.25), with time, WebAssembly memory and the largest error of the
+// path points against the analytic distance. `npm run bench -- geodesic` runs only those.
 import { execFileSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
@@ -25,6 +31,9 @@ const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_0
   ['book', 50_000]];
 const SHAPES = ['fuselage', 'grid', 'fan', 'book'];
 const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000").split(",").map(Number);
+const GEODESIC_CASES = (process.env.GEODESIC_CASES ?? "cylinder:200000,cylinder:2000000,wave:500000")
+  .split(",").map((c) => { const [shape, size] = c.split(":"); return [shape, Number(size)]; });
+const GEODESIC_VOXEL = Number(process.env.GEODESIC_VOXEL ?? 0.25);
 
 function toBinaryStl(tris) {
   const bytes = new Uint8Array(84 + 50 * tris.length);
@@ -162,6 +171,89 @@ async function runSpray(target) {
     passes, spacing: found, tried };
 }
 
+/** Open cylinder about z, radius 50, z in [0, 120], about `target` triangles of even shape;
+ *  the source is its bottom ring through the vertices, the exact distance is z. */
+function geodesicCylinder(target) {
+  const [r, h] = [50, 120];
+  const n = Math.max(8, Math.round(Math.sqrt((target / 2) * (2 * Math.PI * r) / h)));
+  const m = Math.max(1, Math.round(target / (2 * n)));
+  const p = (i, j) => {
+    const a = (2 * Math.PI * (i % n)) / n;
+    return [r * Math.cos(a), r * Math.sin(a), (h * j) / m];
+  };
+  const tris = [];
+  for (let j = 0; j < m; j++) {
+    for (let i = 0; i < n; i++) tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)], [p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+  }
+  const ring = new Float64Array(3 * n);
+  for (let i = 0; i < n; i++) ring.set(p(i, 0).map(Math.fround), 3 * i);
+  return { bytes: toBinaryStl(tris), source: { polyline: ring, closed: true }, exact: (x, y, z) => z };
+}
+
+/** Height field z = 8·sin(2πx/40) over 60 × 50 mm (the paper's model 3 size), about `target`
+ *  triangles; the source is the edge x = 0, the exact distance the profile's arc length. */
+function geodesicWave(target) {
+  const [w, d, a, lambda] = [60, 50, 8, 40];
+  const n = Math.max(2, Math.round(Math.sqrt((target / 2) * (w / d))));
+  const m = Math.max(1, Math.round(target / (2 * n)));
+  const z = (x) => a * Math.sin((2 * Math.PI * x) / lambda);
+  const p = (i, j) => [(w * i) / n, (d * j) / m, z((w * i) / n)];
+  const tris = [];
+  for (let j = 0; j < m; j++) {
+    for (let i = 0; i < n; i++) tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)], [p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+  }
+  // Arc length s(x) tabulated by the midpoint rule on 200 000 steps (error far below 1e-6 mm).
+  const steps = 200_000;
+  const table = new Float64Array(steps + 1);
+  const slope = (x) => ((a * 2 * Math.PI) / lambda) * Math.cos((2 * Math.PI * x) / lambda);
+  for (let k = 0; k < steps; k++) table[k + 1] = table[k] + Math.hypot(1, slope(((k + 0.5) * w) / steps)) * (w / steps);
+  const exact = (x) => {
+    const t = Math.min(Math.max((x / w) * steps, 0), steps);
+    const k = Math.min(Math.floor(t), steps - 1);
+    return table[k] + (t - k) * (table[k + 1] - table[k]);
+  };
+  return { bytes: toBinaryStl(tris), source: { polyline: [0, 0, 0, 0, d, 0] }, exact: (x) => exact(x) };
+}
+
+async function runGeodesic(shape, target, method) {
+  const { initSync, Mesh, wasmMemoryBytes } = await import(join(root, 'dist/pkg/skinpath.js'));
+  initSync({ module: readFileSync(join(root, 'dist/pkg/skinpath_bg.wasm')) });
+  const { bytes, source, exact } = (shape === 'wave' ? geodesicWave : geodesicCylinder)(target);
+  const triangles = (bytes.length - 84) / 50;
+  const spacing = 10;
+  let t = performance.now();
+  const mesh = Mesh.fromStl(bytes);
+  const fromStl = performance.now() - t;
+  const params = method === 'voxel' ? { method, voxelSize: GEODESIC_VOXEL } : { method };
+  t = performance.now();
+  let field;
+  try {
+    field = mesh.geodesicDistance(source, params);
+  } catch (e) {
+    return { shape, triangles, method, error: e.message };
+  }
+  const distance = performance.now() - t;
+  t = performance.now();
+  const paths = field.isoPaths(spacing);
+  const iso = performance.now() - t;
+  t = performance.now();
+  const path = field.toolPath(spacing);
+  const toolPath = performance.now() - t;
+  let worst = 0, sum = 0, count = 0;
+  for (const p of paths) {
+    for (let i = 0; i < p.points.length; i += 3) {
+      const e = Math.abs(exact(p.points[i], p.points[i + 1], p.points[i + 2]) - p.distance);
+      worst = Math.max(worst, e); sum += e; count++;
+    }
+  }
+  const result = { shape, triangles, method, fromStl, distance, iso, toolPath, paths: paths.length,
+    closed: paths.filter((p) => p.closed).length, points: count, maxError: worst, meanError: sum / count,
+    voxels: field.voxelCount, voxelMiB: field.voxelMemoryBytes / 2 ** 20, memoryMiB: wasmMemoryBytes() / 2 ** 20,
+    poses: path.poseCount };
+  path.free(); field.free(); mesh.free();
+  return result;
+}
+
 function median(xs) {
   const s = [...xs].sort((a, b) => a - b);
   return s[Math.floor(s.length / 2)];
@@ -208,7 +300,11 @@ async function runOne(shape, target) {
 const isMain = process.argv[1] && fileURLToPath(import.meta.url) === process.argv[1];
 const sizeArg = !isMain ? -1 : process.argv.indexOf('--size');
 const sprayArg = !isMain ? -1 : process.argv.indexOf('--spray');
-if (sprayArg > 0) {
+const geodesicArg = !isMain ? -1 : process.argv.indexOf('--geodesic');
+if (geodesicArg > 0) {
+  const [shape, size, method] = process.argv.slice(geodesicArg + 1);
+  process.stdout.write(JSON.stringify(await runGeodesic(shape, Number(size), method)));
+} else if (sprayArg > 0) {
   process.stdout.write(JSON.stringify(await runSpray(Number(process.argv[sprayArg + 1]))));
 } else if (sizeArg > 0) {
   const result = await runOne(process.argv[sizeArg + 2] ?? 'fuselage', Number(process.argv[sizeArg + 1]));
@@ -225,7 +321,8 @@ if (sprayArg > 0) {
   }
   console.log('skinpath benchmark (Node %s): generated meshes, binary STL', process.version);
   console.log('shape      triangles   fromStl ms  fromStl µs/tri  segment ms  STLLoader ms  (fromStl+segment)/STLLoader  wasm MiB  bytes/triangle  patches');
-  for (const [shape, size] of chosen.length ? chosen : args.includes('spray') ? [] : CASES) {
+  const only = args.includes('spray') || args.includes('geodesic');
+  for (const [shape, size] of chosen.length ? chosen : only ? [] : CASES) {
     const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
       fileURLToPath(import.meta.url), '--size', String(size), shape], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
     const r = JSON.parse(out);
@@ -235,7 +332,7 @@ if (sprayArg > 0) {
       `  ${r.stlLoader.toFixed(1).padStart(12)}  ${r.ratio.toFixed(2).padStart(27)}` +
       `  ${r.memoryMiB.toFixed(1).padStart(8)}  ${r.bytesPerTriangle.toFixed(1).padStart(14)}  ${String(r.patches).padStart(7)}`);
   }
-  if (!chosen.length || args.includes('spray')) {
+  if ((!chosen.length && !only) || args.includes('spray')) {
     console.log('\nspray on a curved panel (2 × 2.5 m, page defaults; search with maxError 0.2)');
     console.log('triangles   fromStl ms   plan ms   search ms  search/fromStl  eval samples  samples/s (plan)  passes  spacing m  tried');
     for (const size of SPRAY_CASES) {
@@ -245,6 +342,26 @@ if (sprayArg > 0) {
       console.log(`${String(r.triangles).padStart(9)}  ${r.fromStl.toFixed(1).padStart(11)}  ${r.plan.toFixed(1).padStart(8)}` +
         `  ${r.search.toFixed(1).padStart(10)}  ${r.ratio.toFixed(1).padStart(14)}  ${String(r.samples).padStart(12)}` +
         `  ${r.samplesPerSecond.toFixed(0).padStart(16)}  ${String(r.passes).padStart(6)}  ${r.spacing.toFixed(4).padStart(9)}  ${String(r.tried).padStart(5)}`);
+    }
+  }
+  if ((!chosen.length && !only) || args.includes('geodesic')) {
+    console.log(`\ngeodesic passes (spacing 10 mm; voxel edge ${GEODESIC_VOXEL} mm): cylinder R 50 × 120 mm from the bottom ring` +
+      ' (exact: z), wave z = 8 sin(2πx/40) 60 × 50 mm from x = 0 (exact: arc length)');
+    console.log('shape     triangles  method  distance ms  isoPaths ms  toolPath ms  paths  closed  max err mm  mean err mm     voxels  voxel MiB  wasm MiB');
+    for (const [shape, size] of GEODESIC_CASES) {
+      for (const method of ['mesh', 'voxel']) {
+        const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
+          fileURLToPath(import.meta.url), '--geodesic', shape, String(size), method], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
+        const r = JSON.parse(out);
+        if (r.error) {
+          console.log(`${r.shape.padEnd(9)}${String(r.triangles).padStart(10)}  ${r.method.padEnd(6)}  refused: ${r.error}`);
+          continue;
+        }
+        console.log(`${r.shape.padEnd(9)}${String(r.triangles).padStart(10)}  ${r.method.padEnd(6)}  ${r.distance.toFixed(0).padStart(11)}` +
+          `  ${r.iso.toFixed(0).padStart(11)}  ${r.toolPath.toFixed(0).padStart(11)}  ${String(r.paths).padStart(5)}  ${String(r.closed).padStart(6)}` +
+          `  ${r.maxError.toExponential(2).padStart(10)}  ${r.meanError.toExponential(2).padStart(11)}  ${String(r.voxels).padStart(9)}` +
+          `  ${r.voxelMiB.toFixed(1).padStart(9)}  ${r.memoryMiB.toFixed(1).padStart(8)}`);
+      }
     }
   }
 }

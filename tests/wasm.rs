@@ -219,3 +219,108 @@ fn plan_spray_returns_flat_arrays_and_refuses_bad_params_by_name() {
     let x_unit = plan.trajectory()[0];
     assert!((x_mm - 1000.0 * x_unit).abs() < 1e-3, "{x_mm} vs {x_unit}");
 }
+
+/// An open cylinder of radius `r` and length `h` about z (z from 0 to h), `n` facets round
+/// and `m` rings along, as binary STL with outward normals.
+fn cylinder_stl(r: f32, h: f32, n: usize, m: usize) -> Vec<u8> {
+    let p = |i: usize, j: usize| -> [f32; 3] {
+        let a = std::f32::consts::TAU * (i % n) as f32 / n as f32;
+        [r * a.cos(), r * a.sin(), h * j as f32 / m as f32]
+    };
+    let mut tris = Vec::new();
+    for j in 0..m {
+        for i in 0..n {
+            tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
+            tris.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+        }
+    }
+    let mut out = vec![0u8; 80];
+    out.extend_from_slice(&(tris.len() as u32).to_le_bytes());
+    for t in tris {
+        out.extend_from_slice(&[0u8; 12]);
+        t.iter()
+            .flatten()
+            .for_each(|c| out.extend_from_slice(&c.to_le_bytes()));
+        out.extend_from_slice(&[0, 0]);
+    }
+    out
+}
+
+fn get(object: &JsValue, key: &str) -> JsValue {
+    js_sys::Reflect::get(object, &key.into()).expect("a plain object")
+}
+
+#[wasm_bindgen_test]
+fn geodesic_ring_source_on_a_cylinder_gives_closed_paths_at_their_heights() {
+    let (n, r) = (48usize, 50.0f32);
+    let mesh = Mesh::from_stl(bytes(&cylinder_stl(r, 120.0, n, 24)), None).unwrap();
+    // The bottom ring through the mesh's own vertices: distance = z exactly on the facets.
+    let ring: Vec<f64> = (0..n)
+        .flat_map(|i| {
+            let a = std::f32::consts::TAU * i as f32 / n as f32;
+            [(r * a.cos()) as f64, (r * a.sin()) as f64, 0.0]
+        })
+        .collect();
+    let source = js_sys::Object::new();
+    js_sys::Reflect::set(
+        &source,
+        &"polyline".into(),
+        &js_sys::Float64Array::from(ring.as_slice()),
+    )
+    .unwrap();
+    js_sys::Reflect::set(&source, &"closed".into(), &true.into()).unwrap();
+    let field = mesh
+        .geodesic_distance(source.into(), JsValue::UNDEFINED, None)
+        .unwrap();
+    assert_eq!(field.method(), "mesh");
+    assert!(
+        (field.max_distance() - 120.0).abs() < 1e-3,
+        "{}",
+        field.max_distance()
+    );
+    let paths = field.iso_paths(10.0.into(), JsValue::UNDEFINED).unwrap();
+    let mut levels = Vec::new();
+    for path in paths.iter() {
+        let level = get(&path, "level").as_f64().unwrap();
+        assert_eq!(get(&path, "closed").as_bool(), Some(true));
+        assert_eq!(get(&path, "distance").as_f64(), Some(10.0 * level));
+        let points: js_sys::Float64Array = get(&path, "points").unchecked_into();
+        let points = points.to_vec();
+        assert!(points.len() >= 3 * 8);
+        for p in points.chunks_exact(3) {
+            assert!(
+                (p[2] - 10.0 * level).abs() < 1e-3,
+                "z {} at level {level}",
+                p[2]
+            );
+        }
+        levels.push(level as u32);
+    }
+    levels.dedup();
+    assert_eq!(&levels[..11], &(1..=11).collect::<Vec<u32>>()[..]);
+    let path = field.tool_path(10.0.into(), JsValue::UNDEFINED).unwrap();
+    assert!(path.pass_count() >= 11);
+    assert_eq!(path.positions().len(), 3 * path.pose_count() as usize);
+    assert!(path.to_rapid(JsValue::UNDEFINED).unwrap()[0].contains("MoveL"));
+
+    let far = json(r#"{"polyline": [0, 0, 1000]}"#);
+    let Err(e) = mesh.geodesic_distance(far, JsValue::UNDEFINED, None) else {
+        panic!("a source far off the surface accepted")
+    };
+    assert!(message(e).contains("misses the surface"));
+    let Err(e) = mesh.geodesic_distance(json(r#"{"polyline": [0, 0]}"#), JsValue::UNDEFINED, None)
+    else {
+        panic!("two numbers accepted as points")
+    };
+    assert!(message(e).contains("source.polyline"));
+    let Err(e) = mesh.geodesic_distance(json(r#"{"vertexes": [0]}"#), JsValue::UNDEFINED, None)
+    else {
+        panic!("a misspelt source accepted")
+    };
+    assert_eq!(message(e), "unknown geodesic source 'vertexes'");
+    let Err(e) = field.iso_paths(0.0.into(), JsValue::UNDEFINED) else {
+        panic!("spacing 0 accepted")
+    };
+    assert!(message(e).contains("spacing"));
+    assert_eq!(mesh.triangle_count(), 2 * 48 * 24, "the mesh keeps working");
+}

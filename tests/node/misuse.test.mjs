@@ -12,7 +12,7 @@ const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const pkg = join(root, 'dist', 'pkg');
 const wasm = await import(join(pkg, 'skinpath.js'));
 wasm.initSync({ module: readFileSync(join(pkg, 'skinpath_bg.wasm')) });
-const { Mesh, Segmentation, deriveThreshold, wasmMemoryBytes } = wasm;
+const { Mesh, Segmentation, DistanceField, ToolPath, deriveThreshold, wasmMemoryBytes } = wasm;
 const cube = readFileSync(join(root, 'tests', 'fixtures', 'cube_binary.stl'));
 const paper = { angleThreshold: 0.35, thetaMax: 1, minAreaRatio: 0.1 };
 
@@ -214,11 +214,18 @@ test('fromStl takes a Uint8Array or an ArrayBuffer and refuses other types and 2
 test('use after free() says which object was freed, for every class and member', () => {
   const mesh = Mesh.fromStl(cube);
   const seg = mesh.segment(paper);
+  const field = mesh.geodesicDistance({ vertices: [0] });
+  const path = field.toolPath(field.maxDistance / 3);
   const classes = [[Mesh, mesh, /^this Mesh was freed \(free\(\) was called\); load the file again$/],
-    [Segmentation, seg, /^this Segmentation was freed \(free\(\) was called\); segment the mesh again$/]];
+    [Segmentation, seg, /^this Segmentation was freed \(free\(\) was called\); segment the mesh again$/],
+    [DistanceField, field, /^this DistanceField was freed \(free\(\) was called\); compute the distance again$/],
+    [ToolPath, path, /^this ToolPath was freed \(free\(\) was called\); build the tool path again$/]];
   mesh.free();
   assert.equal(seg.patchStl(0).length, 184, 'a segmentation outlives its freed mesh');
+  assert.ok(field.isoPaths(field.maxDistance / 3).length > 0, 'a distance field outlives its freed mesh');
   seg.free();
+  field.free();
+  path.free();
   for (const [cls, object, freed] of classes) {
     object.free(); // a second free() does nothing
     const members = Object.getOwnPropertyNames(cls.prototype).filter((k) => k !== 'constructor' && k !== 'free' && !k.startsWith('__'));
