@@ -320,9 +320,12 @@ if (geodesicArg > 0) {
     if (shape === args[i + 1]) i++;
   }
   console.log('skinpath benchmark (Node %s): generated meshes, binary STL', process.version);
-  console.log('shape      triangles   fromStl ms  fromStl µs/tri  segment ms  STLLoader ms  (fromStl+segment)/STLLoader  wasm MiB  bytes/triangle  patches');
   const only = args.includes('spray') || args.includes('geodesic');
-  for (const [shape, size] of chosen.length ? chosen : only ? [] : CASES) {
+  const meshCases = chosen.length ? chosen : only ? [] : CASES;
+  if (meshCases.length) {
+    console.log('shape      triangles   fromStl ms  fromStl µs/tri  segment ms  STLLoader ms  (fromStl+segment)/STLLoader  wasm MiB  bytes/triangle  patches');
+  }
+  for (const [shape, size] of meshCases) {
     const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
       fileURLToPath(import.meta.url), '--size', String(size), shape], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
     const r = JSON.parse(out);
