@@ -106,7 +106,7 @@ pub fn normal_from_points(
     let d24 = q[3] - q[1];
     let cross = d13.cross(&d24);
     let sine = cross.norm() / (d13.norm() * d24.norm());
-    if !(sine >= LASER_MIN_DIAGONAL_SINE) {
+    if sine.is_nan() || sine < LASER_MIN_DIAGONAL_SINE {
         return Err(DrillError::DegenerateLaserPoints(format!(
             "the diagonals Q1Q3 and Q2Q4 are parallel (sine of their angle {sine:e}): the points \
              are collinear or not in cyclic order around the head"
@@ -115,7 +115,7 @@ pub fn normal_from_points(
     let mut normal = cross / cross.norm();
     let beam = beam_direction.norm();
     let cosine = normal.dot(beam_direction) / beam;
-    if !(cosine.abs() >= LASER_MIN_INCIDENCE_COSINE) {
+    if cosine.is_nan() || cosine.abs() < LASER_MIN_INCIDENCE_COSINE {
         return Err(DrillError::DegenerateLaserPoints(format!(
             "the beams graze the surface (cosine to its normal {cosine:e}), so the normal's side \
              is undecidable"
