@@ -292,11 +292,18 @@ fn paper_normal_example_with_analytic_ray_casts() {
     );
     let n = normal_from_lasers(&origins, &directions, &readings).unwrap();
     let angle = angle_between(&n, &truth);
-    println!("paper normal example (analytic readings {readings:.3?}): n = {n:.5}, angle to truth {angle:.3e} rad, cos = {:.9}", n.dot(&truth));
-    // Outward, towards the sensors; parallel to the truth within 0.01° (the secant plane of
-    // points ~45 mm around M on a curvature radius ≥ 1333 mm).
+    println!(
+        "paper normal example (analytic readings {readings:.3?}): n = [{:.6}, {:.6}, {:.6}], \
+         angle to truth {angle:.3e} rad, cos = {:.12}",
+        n.x,
+        n.y,
+        n.z,
+        n.dot(&truth)
+    );
+    // Outward, towards the sensors; parallel to the truth within 2e-6 rad: the secant plane of
+    // points ~45 mm around M on a slowly varying curvature is nearly the tangent plane.
     assert!(n.dot(&truth) > 0.0);
-    assert!(angle < 1.8e-4, "angle {angle}");
+    assert!(angle < 2e-6, "angle {angle}");
     // Converging beams onto M see the same surface and give the same normal to the same order.
     let head = SensorHead {
         width: 87.0,

@@ -28,7 +28,8 @@
 //! end tangent is 3× the Bézier handle, so `|T| = 4·r·tan(φ/4)`; with the chord
 //! `c = 2·r·sin(φ/2) = 4·r·sin(φ/4)·cos(φ/4)` this is `|T| = c / cos²(φ/4)`, independent of
 //! the radius and equal to the chord for a straight segment (φ = 0). It is capped at
-//! 3× the chord; `tangent_scale` replaces it by `tangent_scale × chord`. No paper chooses `φ`
+//! 3× the chord, a bound it never reaches (φ ≤ π gives at most 2× the chord);
+//! `tangent_scale` replaces it by `tangent_scale × chord`. No paper chooses `φ`
 //! for twisted normals: here it is the angle between the two unit end tangents, which for a
 //! planar arc equals the angle between the normals.
 

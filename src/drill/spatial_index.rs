@@ -14,9 +14,11 @@
 //!         queries visit O(log n) nodes on well-spread meshes (worst case O(n)).
 //! Deviations: none in the methods. Why not `parry3d`: its versions on nalgebra (≤ 0.25) use
 //!         nalgebra 0.34 while this crate uses 0.35 (a second copy in the WebAssembly binary),
-//!         and later versions moved to glam, a third vector library; a 300-line BVH answers the
-//!         two queries needed here, is checked against brute force in the tests and keeps
-//!         results bit-identical natively and in WebAssembly.
+//!         and later versions moved to glam, a third vector library. Measured on a wasm32
+//!         release cdylib doing one ray cast and one projection: 59.7 KB with parry3d-f64 0.25
+//!         against 10.9 KB for nalgebra alone, and 71 crates in the lock file instead of 20.
+//!         A 300-line BVH answers the two queries needed here, is checked against brute force
+//!         in the tests and keeps results bit-identical natively and in WebAssembly.
 //!
 //! This index lives in `drill/` for now; it moves to `mesh/` when the page's picking uses it.
 

@@ -42,8 +42,42 @@ enum MethodSpec {
     Bilinear,
 }
 
+/// Refuses an object key not in `allowed` (serde-wasm-bindgen does not enforce
+/// `deny_unknown_fields`, and `flatten` would garble typed arrays).
+fn refuse_unknown_keys(value: &JsValue, allowed: &[&str], prefix: &str) -> Result<(), JsError> {
+    let Some(object) = value.dyn_ref::<Object>() else {
+        return Ok(()); // not an object: serde reports the wrong type
+    };
+    for key in Object::keys(object).iter() {
+        let key = key.as_string().unwrap_or_default();
+        if !allowed.contains(&key.as_str()) {
+            return Err(JsError::new(&format!(
+                "invalid hole-correction parameters: unknown field `{prefix}{key}` (allowed: {})",
+                allowed.join(", ")
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Reads the `correctHoles` parameters (the one place that knows their JavaScript shape).
 fn correction_params_from_js(params: JsValue) -> Result<CorrectionParams, JsError> {
+    let top = [
+        "references",
+        "holes",
+        "method",
+        "tangentScale",
+        "extrapolate",
+    ];
+    refuse_unknown_keys(&params, &top, "")?;
+    if let Ok(references) = Reflect::get(&params, &JsValue::from_str("references")) {
+        if let Some(list) = references.dyn_ref::<js_sys::Array>() {
+            for (i, r) in list.iter().enumerate() {
+                let fields = ["nominal", "actual", "normal", "nominalNormal"];
+                refuse_unknown_keys(&r, &fields, &format!("references[{i}]."))?;
+            }
+        }
+    }
     let spec: CorrectionSpec = serde_wasm_bindgen::from_value(params)
         .map_err(|e| JsError::new(&format!("invalid hole-correction parameters: {e}")))?;
     let references: [ReferenceSpec; 4] = spec.references.try_into().map_err(|r: Vec<_>| {
