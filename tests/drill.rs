@@ -315,11 +315,9 @@ fn paper_normal_example_with_analytic_ray_casts() {
     let (o2, d2) = head.beams_at_hole(&m, &truth, &Vector3::x()).unwrap();
     let r2: [Real; 4] = std::array::from_fn(|i| ellipse_hit(&o2[i], &d2[i]).unwrap());
     let n2 = normal_from_lasers(&o2, &d2, &r2).unwrap();
-    assert!(
-        angle_between(&n2, &truth) < 1e-4,
-        "{}",
-        angle_between(&n2, &truth)
-    );
+    let angle2 = angle_between(&n2, &truth);
+    println!("converging beams on M: angle to truth {angle2:.3e} rad");
+    assert!(angle2 < 2e-6, "{angle2}");
 }
 
 #[test]
