@@ -130,10 +130,10 @@ impl ErrorSurface {
     ) -> Result<Self, DrillError> {
         for (r, name) in references.iter().zip(NAMES) {
             let values = r.nominal.coords.iter().chain(r.actual.coords.iter());
-            let values = values
+            let mut values = values
                 .chain(r.normal.iter())
                 .chain(r.nominal_normal.iter().flatten());
-            if let Some(&value) = values.clone().find(|v| !v.is_finite()) {
+            if let Some(&value) = values.find(|v| !v.is_finite()) {
                 return Err(DrillError::NonFinite {
                     name: format!("a coordinate of reference {name}"),
                     value,

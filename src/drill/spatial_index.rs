@@ -278,21 +278,22 @@ fn build(
 }
 
 /// Entry distance of the ray into the box (0 when it starts inside), `None` on a miss.
+/// `inv` holds the reciprocals of the unit direction's components (±∞ for a zero one).
 fn slab(min: &Point3, max: &Point3, origin: &Point3, inv: &Vector3) -> Option<Real> {
     let mut t0: Real = 0.0;
     let mut t1 = Real::INFINITY;
     for i in 0..3 {
+        if inv[i].is_infinite() {
+            // Parallel to this slab: inside it (boundary included) or never.
+            if origin[i] < min[i] || origin[i] > max[i] {
+                return None;
+            }
+            continue;
+        }
         let a = (min[i] - origin[i]) * inv[i];
         let b = (max[i] - origin[i]) * inv[i];
-        // A zero direction component gives ±∞ (or NaN when the origin is on the face plane:
-        // treat that as inside the slab).
-        let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
-        if !lo.is_nan() {
-            t0 = t0.max(lo);
-        }
-        if !hi.is_nan() {
-            t1 = t1.min(hi);
-        }
+        t0 = t0.max(a.min(b));
+        t1 = t1.min(a.max(b));
     }
     (t0 <= t1).then_some(t0)
 }
