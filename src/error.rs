@@ -1,5 +1,6 @@
 //! The crate's error type: one variant per module, each wrapping that module's own enum.
 
+use crate::drill::DrillError;
 use crate::mesh::{MeshError, StlError};
 use crate::segment::ParamError;
 use crate::spray::SprayError;
@@ -23,6 +24,9 @@ pub enum Error {
     /// A tool path or one of its export options is invalid.
     #[error(transparent)]
     ToolPath(#[from] ToolPathError),
+    /// Drilling input (laser readings, reference holes, holes) is invalid.
+    #[error(transparent)]
+    Drill(#[from] DrillError),
 }
 
 /// `Result` with the crate's [`Error`].

@@ -1,0 +1,266 @@
+//! Drilling-hole correction for JavaScript: `normalFromLasers`, `correctHoles`, and the
+//! `Mesh` methods `laserReadings`, `closestPoints` and `correctHoles` (the mesh index is built
+//! on first use and kept with the `Mesh`). `correctHoles(params, mesh?)` is split into the
+//! free function and the method because wasm-bindgen cannot borrow an optional `Mesh`
+//! (`Option<&Mesh>`); taking `Option<Mesh>` would consume the caller's handle.
+
+use super::Mesh;
+use crate::drill::{self, CorrectionParams, MeshIndex, Method, ReferenceHole};
+use crate::math::{Point3, Vector3};
+use js_sys::{Float64Array, Object, Reflect, Uint8Array};
+use wasm_bindgen::prelude::*;
+
+/// `{ nominal, actual, normal, nominalNormal? }` as JavaScript writes it.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "camelCase")]
+struct ReferenceSpec {
+    nominal: [f64; 3],
+    actual: [f64; 3],
+    normal: [f64; 3],
+    #[serde(default)]
+    nominal_normal: Option<[f64; 3]>,
+}
+
+/// The `correctHoles` parameter object as JavaScript writes it.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "camelCase")]
+struct CorrectionSpec {
+    references: Vec<ReferenceSpec>,
+    holes: Vec<f64>,
+    #[serde(default)]
+    method: Option<MethodSpec>,
+    #[serde(default)]
+    tangent_scale: Option<f64>,
+    #[serde(default)]
+    extrapolate: Option<bool>,
+}
+
+#[derive(serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum MethodSpec {
+    Coons,
+    Bilinear,
+}
+
+/// Refuses an object key not in `allowed` (serde-wasm-bindgen does not enforce
+/// `deny_unknown_fields`, and `flatten` would garble typed arrays).
+fn refuse_unknown_keys(value: &JsValue, allowed: &[&str], prefix: &str) -> Result<(), JsError> {
+    let Some(object) = value.dyn_ref::<Object>() else {
+        return Ok(()); // not an object: serde reports the wrong type
+    };
+    for key in Object::keys(object).iter() {
+        let key = key.as_string().unwrap_or_default();
+        if !allowed.contains(&key.as_str()) {
+            return Err(JsError::new(&format!(
+                "invalid hole-correction parameters: unknown field `{prefix}{key}` (allowed: {})",
+                allowed.join(", ")
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Reads the `correctHoles` parameters (the one place that knows their JavaScript shape).
+fn correction_params_from_js(params: JsValue) -> Result<CorrectionParams, JsError> {
+    let top = [
+        "references",
+        "holes",
+        "method",
+        "tangentScale",
+        "extrapolate",
+    ];
+    refuse_unknown_keys(&params, &top, "")?;
+    if let Ok(references) = Reflect::get(&params, &JsValue::from_str("references")) {
+        if let Some(list) = references.dyn_ref::<js_sys::Array>() {
+            for (i, r) in list.iter().enumerate() {
+                let fields = ["nominal", "actual", "normal", "nominalNormal"];
+                refuse_unknown_keys(&r, &fields, &format!("references[{i}]."))?;
+            }
+        }
+    }
+    let spec: CorrectionSpec = serde_wasm_bindgen::from_value(params)
+        .map_err(|e| JsError::new(&format!("invalid hole-correction parameters: {e}")))?;
+    let references: [ReferenceSpec; 4] = spec.references.try_into().map_err(|r: Vec<_>| {
+        JsError::new(&format!(
+            "references must list exactly 4 reference holes A, B, C, D, got {}",
+            r.len()
+        ))
+    })?;
+    Ok(CorrectionParams {
+        references: references.map(|r| ReferenceHole {
+            nominal: Point3::from(r.nominal),
+            actual: Point3::from(r.actual),
+            normal: Vector3::from(r.normal),
+            nominal_normal: r.nominal_normal.map(Vector3::from),
+        }),
+        holes: points(&spec.holes, "holes")?,
+        method: match spec.method {
+            Some(MethodSpec::Bilinear) => Method::Bilinear,
+            Some(MethodSpec::Coons) | None => Method::Coons,
+        },
+        tangent_scale: spec.tangent_scale,
+        extrapolate: spec.extrapolate.unwrap_or(false),
+    })
+}
+
+/// Flat `[x0, y0, z0, x1, …]` as points; `name` labels the error.
+fn points(flat: &[f64], name: &str) -> Result<Vec<Point3>, JsError> {
+    if flat.len() % 3 != 0 {
+        return Err(JsError::new(&format!(
+            "{name} must hold x, y, z triples, got {} numbers",
+            flat.len()
+        )));
+    }
+    Ok(flat
+        .chunks_exact(3)
+        .map(|c| Point3::new(c[0], c[1], c[2]))
+        .collect())
+}
+
+/// Exactly four triples, for the laser functions.
+fn four(flat: &[f64], name: &str) -> Result<[Point3; 4], JsError> {
+    points(flat, name)?.try_into().map_err(|p: Vec<_>| {
+        JsError::new(&format!(
+            "{name} must hold 4 x, y, z triples, got {}",
+            p.len()
+        ))
+    })
+}
+
+fn set(object: &Object, key: &str, value: &JsValue) -> Result<(), JsError> {
+    Reflect::set(object, &JsValue::from_str(key), value)
+        .map_err(|_| JsError::new(&format!("could not set {key} on the result")))?;
+    Ok(())
+}
+
+fn flat_f64<'a>(v: impl IntoIterator<Item = &'a [f64]>) -> Float64Array {
+    let all: Vec<f64> = v.into_iter().flatten().copied().collect();
+    Float64Array::from(all.as_slice())
+}
+
+/// Unit surface normal from four laser sensors: beam `origins` and unit `directions` (4 × xyz
+/// each, in cyclic order around the head) and the 4 `readings`; points back towards the
+/// sensors. Throws an `Error` naming degenerate or invalid input.
+#[wasm_bindgen(js_name = normalFromLasers, unchecked_return_type = "[number, number, number]")]
+pub fn normal_from_lasers(
+    origins: &[f64],
+    directions: &[f64],
+    readings: &[f64],
+) -> Result<JsValue, JsError> {
+    let o = four(origins, "origins")?;
+    let d = four(directions, "directions")?.map(|p| p.coords);
+    let r: [f64; 4] = readings.try_into().map_err(|_| {
+        JsError::new(&format!(
+            "readings must hold 4 numbers, got {}",
+            readings.len()
+        ))
+    })?;
+    let n = drill::normal_from_lasers(&o, &d, &r)?;
+    Ok(serde_wasm_bindgen::to_value(&[n.x, n.y, n.z])?)
+}
+
+/// Corrects the nominal holes from four reference holes (see `CorrectionParams`) without a
+/// panel mesh (`mesh.correctHoles(params)` projects onto a mesh). Returns
+/// `{ corrected, normals, u, w, outside }` (flat xyz, outward unit normals, patch parameters,
+/// 1 where a hole was extrapolated). Throws an `Error` naming bad input.
+#[wasm_bindgen(js_name = correctHoles, unchecked_return_type = "HoleCorrection")]
+pub fn correct_holes(
+    #[wasm_bindgen(unchecked_param_type = "CorrectionParams")] params: JsValue,
+) -> Result<JsValue, JsError> {
+    correction_to_js(params, None)
+}
+
+/// `correctHoles` for JavaScript, with or without the panel's index.
+fn correction_to_js(params: JsValue, index: Option<&MeshIndex>) -> Result<JsValue, JsError> {
+    let params = correction_params_from_js(params)?;
+    let c = drill::correct_holes(&params, index)?;
+    let out = Object::new();
+    set(
+        &out,
+        "corrected",
+        &flat_f64(c.corrected.iter().map(|p| p.coords.as_slice())).into(),
+    )?;
+    set(
+        &out,
+        "normals",
+        &flat_f64(c.normals.iter().map(|n| n.as_slice())).into(),
+    )?;
+    set(&out, "u", &Float64Array::from(c.u.as_slice()).into())?;
+    set(&out, "w", &Float64Array::from(c.w.as_slice()).into())?;
+    let outside: Vec<u8> = c.outside.iter().map(|&o| o as u8).collect();
+    set(
+        &out,
+        "outside",
+        &Uint8Array::from(outside.as_slice()).into(),
+    )?;
+    Ok(out.into())
+}
+
+#[wasm_bindgen]
+impl Mesh {
+    /// `correctHoles` on this panel: corrected holes are projected onto the mesh, the drilling
+    /// normals are the mesh's there, and missing `nominalNormal`s default to the mesh's normal
+    /// at the nominal reference hole. Same result object; throws an `Error` on bad input.
+    #[wasm_bindgen(js_name = correctHoles, unchecked_return_type = "HoleCorrection")]
+    pub fn correct_holes(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "CorrectionParams")] params: JsValue,
+    ) -> Result<JsValue, JsError> {
+        correction_to_js(params, Some(&self.drill_index()))
+    }
+
+    /// Simulated laser readings: distance along each unit beam (flat xyz `origins` and
+    /// `directions`, any count) to the first triangle hit, NaN where a beam misses.
+    #[wasm_bindgen(js_name = laserReadings)]
+    pub fn laser_readings(&self, origins: &[f64], directions: &[f64]) -> Result<Vec<f64>, JsError> {
+        let o = points(origins, "origins")?;
+        let d: Vec<Vector3> = points(directions, "directions")?
+            .iter()
+            .map(|p| p.coords)
+            .collect();
+        Ok(drill::laser_readings(&self.drill_index(), &o, &d)?)
+    }
+
+    /// Closest points of the mesh to flat xyz `points`: `{ points, normals, distances }`
+    /// (normals interpolated from the vertex normals, in the mesh's winding).
+    #[wasm_bindgen(js_name = closestPoints, unchecked_return_type = "ClosestPoints")]
+    pub fn closest_points(&self, points: &[f64]) -> Result<JsValue, JsError> {
+        let index = self.drill_index();
+        let found = self::points(points, "points")?
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                index
+                    .closest_point(p)
+                    .ok_or_else(|| JsError::new(&format!("point {i} has a non-finite coordinate")))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let out = Object::new();
+        set(
+            &out,
+            "points",
+            &flat_f64(found.iter().map(|c| c.point.coords.as_slice())).into(),
+        )?;
+        set(
+            &out,
+            "normals",
+            &flat_f64(found.iter().map(|c| c.normal.as_slice())).into(),
+        )?;
+        let distances: Vec<f64> = found.iter().map(|c| c.distance).collect();
+        set(
+            &out,
+            "distances",
+            &Float64Array::from(distances.as_slice()).into(),
+        )?;
+        Ok(out.into())
+    }
+}
+
+impl Mesh {
+    /// The mesh index for ray casts and closest points, built on first use.
+    pub(super) fn drill_index(&self) -> std::rc::Rc<MeshIndex> {
+        self.index
+            .get_or_init(|| std::rc::Rc::new(MeshIndex::new(&self.inner.mesh)))
+            .clone()
+    }
+}
