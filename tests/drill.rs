@@ -13,6 +13,10 @@ use skinpath::drill::{
     parse_holes_csv, BeamAim, CoonsPatch, Correction, CorrectionParams, DrillError, FergusonCurve,
     MeshIndex, Method, PoseParams, ReferenceHole, SensorHead,
 };
+use skinpath::drill::{
+    paper_corner_params, paper_deformed, paper_example, paper_hole_params, paper_nominal_surface,
+    paper_panel_mesh, PAPER_HALF_SECTOR, PAPER_RADIUS,
+};
 use skinpath::math::{angle_between, Point3, Real, Vector3};
 use skinpath::mesh::TriMesh;
 use skinpath::toolpath::PoseKind;
@@ -463,17 +467,17 @@ fn coons_patch_reproduces_its_four_boundary_curves() {
 
 // ---------------------------------------------------------------- hole correction (§3.3, §4.2)
 
-/// The paper's example: radius 1000 mm (our choice; the paper's table is not in the text),
-/// 60° sector θ ∈ [−30°, 30°] across the flight direction, z ∈ [0, 400] mm along it.
-const RADIUS: Real = 1000.0;
-const HALF_SECTOR: Real = std::f64::consts::PI / 6.0;
-const LENGTH: Real = 400.0;
+// The paper's example (radius, sector, length, the bent panel, the corner and hole parameters
+// and the panel mesh) comes from `skinpath::drill::paper_*`; the truth, the normals and the
+// error figures are computed here.
+const RADIUS: Real = PAPER_RADIUS;
+const HALF_SECTOR: Real = PAPER_HALF_SECTOR;
 
 /// A deformation of the panel: surface point of parameters (θ, z).
 type Surface = dyn Fn(Real, Real) -> Point3;
 
 fn nominal_surface(theta: Real, z: Real) -> Point3 {
-    Point3::new(RADIUS * libm::sin(theta), RADIUS * libm::cos(theta), z)
+    paper_nominal_surface(theta, z)
 }
 
 /// Outward unit normal of a surface by central differences (independent of the code tested).
@@ -497,50 +501,24 @@ fn rigid(p: Point3) -> Point3 {
     Point3::from(rotate(&p.coords, &axis, 0.25_f64.to_radians())) + Vector3::new(1.5, -2.0, 1.0)
 }
 
-/// Each corner moves differently: the panel bends to a 3 mm larger radius, the sector
-/// stretches by 0.2 % across and 0.1 % along the flight direction and twists by 1 mrad over
-/// its length, then a small rigid move.
+/// Each corner moves differently (the example's actual panel).
 fn bent(theta: Real, z: Real) -> Point3 {
-    deformed(theta, z, 0.0)
+    paper_deformed(theta, z, 0.0)
 }
 
-/// As [`bent`], with the radius also growing by `taper` mm over the length (a cone: normals
-/// tilt out of the rows' planes by about `taper / LENGTH` rad).
 fn deformed(theta: Real, z: Real, taper: Real) -> Point3 {
-    let r = RADIUS + 3.0 + taper * z / LENGTH;
-    let a = theta * 1.002 + 1e-3 * z / LENGTH;
-    let p = Point3::new(r * libm::sin(a), r * libm::cos(a), 1.001 * z);
-    let axis = Vector3::new(1.0, 0.0, 0.2).normalize();
-    Point3::from(rotate(&p.coords, &axis, 0.1_f64.to_radians())) + Vector3::new(0.5, 1.0, -0.8)
+    paper_deformed(theta, z, taper)
 }
 
-/// Corners A, B, C, D and the 16 holes (4 × 4, evenly spread at fifths between them) as
-/// surface parameters.
 fn corner_params() -> [(Real, Real); 4] {
-    [
-        (-HALF_SECTOR, 0.0),
-        (HALF_SECTOR, 0.0),
-        (HALF_SECTOR, LENGTH),
-        (-HALF_SECTOR, LENGTH),
-    ]
+    paper_corner_params()
 }
 fn hole_params() -> Vec<(Real, Real)> {
-    let mut v = Vec::new();
-    for j in 1..=4 {
-        for i in 1..=4 {
-            let (s, t) = (i as Real / 5.0, j as Real / 5.0);
-            v.push((-HALF_SECTOR + 2.0 * HALF_SECTOR * s, LENGTH * t));
-        }
-    }
-    v
+    paper_hole_params()
 }
 
-/// A panel mesh of a surface, 80° × 600 mm around the region, 0.2° facets (sag 1.5e-3 mm) not aligned with the holes.
 fn panel_mesh(s: &Surface) -> TriMesh {
-    let span = 40_f64.to_radians();
-    grid_mesh(397, 12, |a, b| {
-        s(-span + 2.0 * span * a, -100.0 + 600.0 * b)
-    })
+    paper_panel_mesh(s)
 }
 
 fn references(actual: &Surface) -> [ReferenceHole; 4] {
@@ -627,6 +605,39 @@ fn paper_example_each_corner_moves_differently() {
     assert!(uncorrected.0 > bilinear.0 && bilinear.0 > coons.0);
     assert!(uncorrected.1 > bilinear.1 && bilinear.1 > coons.1);
     assert!(coons.0 < 0.1 * bilinear.0, "{coons:?} vs {bilinear:?}");
+}
+
+#[test]
+fn the_built_in_example_is_the_bent_panel_with_its_truth() {
+    let ex = paper_example();
+    assert_eq!((ex.ids.len(), ex.holes.len(), ex.truth.len()), (16, 16, 16));
+    for (r, (t, z)) in ex.references.iter().zip(corner_params()) {
+        assert!((r.actual - bent(t, z)).norm() < 1e-12);
+        assert!((r.nominal - nominal_surface(t, z)).norm() < 1e-12);
+        assert!(angle_between(&r.normal, &surface_normal(&bent, t, z)) < 1e-8);
+    }
+    // Its figures are those of the bent-panel comparison: Coons well below bilinear.
+    let index = MeshIndex::new(&ex.panel);
+    let truth = &ex.truth;
+    let run = |method| {
+        let p = CorrectionParams {
+            references: ex.references,
+            holes: ex.holes.clone(),
+            method,
+            tangent_scale: None,
+            extrapolate: false,
+        };
+        errors(&correct_holes(&p, Some(&index)).unwrap().corrected, truth)
+    };
+    let (uncorrected, bilinear, coons) = (
+        errors(&ex.holes, truth),
+        run(Method::Bilinear),
+        run(Method::Coons),
+    );
+    assert!(
+        uncorrected.0 > bilinear.0 && bilinear.0 > 10.0 * coons.0,
+        "{uncorrected:?} {bilinear:?} {coons:?}"
+    );
 }
 
 #[test]

@@ -1,5 +1,6 @@
 //! Drilling-hole correction for JavaScript: `normalFromLasers`, `correctHoles`, and the
-//! `Mesh` methods `laserReadings`, `closestPoints` and `correctHoles` (the mesh index is built
+//! `Mesh` methods `laserReadings`, `closestPoints`, `correctHoles` and `drillingProgram`, the
+//! hole-list reader `parseHolesCsv` and the paper's example `drillPaperExample` (the mesh index is built
 //! on first use and kept with the `Mesh`). `correctHoles(params, mesh?)` is split into the
 //! free function and the method because wasm-bindgen cannot borrow an optional `Mesh`
 //! (`Option<&Mesh>`); taking `Option<Mesh>` would consume the caller's handle.
@@ -7,7 +8,8 @@
 use super::Mesh;
 use crate::drill::{self, CorrectionParams, MeshIndex, Method, ReferenceHole};
 use crate::math::{Point3, Vector3};
-use js_sys::{Float64Array, Object, Reflect, Uint8Array};
+use crate::toolpath::{to_csv, to_json, to_krl, to_rapid};
+use js_sys::{Array, Float64Array, Object, Reflect, Uint32Array, Uint8Array};
 use wasm_bindgen::prelude::*;
 
 /// `{ nominal, actual, normal, nominalNormal? }` as JavaScript writes it.
@@ -45,6 +47,16 @@ enum MethodSpec {
 /// Refuses an object key not in `allowed` (serde-wasm-bindgen does not enforce
 /// `deny_unknown_fields`, and `flatten` would garble typed arrays).
 fn refuse_unknown_keys(value: &JsValue, allowed: &[&str], prefix: &str) -> Result<(), JsError> {
+    refuse_unknown_keys_of(value, allowed, prefix, "hole-correction parameters")
+}
+
+/// [`refuse_unknown_keys`] for the object named `what` in the message.
+fn refuse_unknown_keys_of(
+    value: &JsValue,
+    allowed: &[&str],
+    prefix: &str,
+    what: &str,
+) -> Result<(), JsError> {
     let Some(object) = value.dyn_ref::<Object>() else {
         return Ok(()); // not an object: serde reports the wrong type
     };
@@ -52,7 +64,7 @@ fn refuse_unknown_keys(value: &JsValue, allowed: &[&str], prefix: &str) -> Resul
         let key = key.as_string().unwrap_or_default();
         if !allowed.contains(&key.as_str()) {
             return Err(JsError::new(&format!(
-                "invalid hole-correction parameters: unknown field `{prefix}{key}` (allowed: {})",
+                "invalid {what}: unknown field `{prefix}{key}` (allowed: {})",
                 allowed.join(", ")
             )));
         }
@@ -196,8 +208,147 @@ fn correction_to_js(params: JsValue, index: Option<&MeshIndex>) -> Result<JsValu
     Ok(out.into())
 }
 
+#[wasm_bindgen(typescript_custom_section)]
+const DRILL_TYPES: &str = r#"
+/** Hole list read from `id,x,y,z` text: good rows (ids, flat xyz, 1-based line numbers) and one
+ *  error per bad row; header: whether the first non-blank line was a header. */
+export interface HoleList {
+  ids: string[]; positions: Float64Array; lines: Uint32Array;
+  errors: { line: number; message: string }[]; header: boolean;
+}
+/** Drilling cycle: approach and retract distances along the normal (≥ 0, default 20), feed and
+ *  link speeds (> 0, default 5 and 100), in the mesh's unit and per second. */
+export interface DrillPoseParams { approach?: number; retract?: number; feedSpeed?: number; linkSpeed?: number }
+/** The paper's example: the actual panel as binary STL (mm), references A–D, hole ids, nominal
+ *  holes and their true positions on the actual panel (flat xyz). */
+export interface DrillPaperExample {
+  stl: Uint8Array; references: ReferenceHole[]; ids: string[]; holes: Float64Array; truth: Float64Array;
+}
+"#;
+
+/// Reads a hole list from `id,x,y,z` text (header optional; see `drill::parse_holes_csv`):
+/// `{ ids, positions, lines, errors: [{ line, message }], header }`. Never throws on content.
+#[wasm_bindgen(js_name = parseHolesCsv, unchecked_return_type = "HoleList")]
+pub fn parse_holes_csv(text: &str) -> Result<JsValue, JsError> {
+    let list = drill::parse_holes_csv(text);
+    let out = Object::new();
+    let ids: Array = list
+        .holes
+        .iter()
+        .map(|h| JsValue::from_str(&h.id))
+        .collect();
+    set(&out, "ids", &ids.into())?;
+    set(
+        &out,
+        "positions",
+        &flat_f64(list.holes.iter().map(|h| h.position.coords.as_slice())).into(),
+    )?;
+    let lines: Vec<u32> = list.holes.iter().map(|h| h.line as u32).collect();
+    set(&out, "lines", &Uint32Array::from(lines.as_slice()).into())?;
+    let errors = Array::new();
+    for e in &list.errors {
+        let o = Object::new();
+        set(&o, "line", &JsValue::from_f64(e.line as f64))?;
+        set(&o, "message", &JsValue::from_str(&e.message))?;
+        errors.push(&o);
+    }
+    set(&out, "errors", &errors.into())?;
+    set(&out, "header", &JsValue::from_bool(list.header))?;
+    Ok(out.into())
+}
+
+/// The paper's 60° example as data (`DrillPaperExample`): load `stl` as the model.
+#[wasm_bindgen(js_name = drillPaperExample, unchecked_return_type = "DrillPaperExample")]
+pub fn drill_paper_example() -> Result<JsValue, JsError> {
+    let ex = drill::paper_example();
+    let out = Object::new();
+    let panel = &ex.panel;
+    let stl = crate::mesh::write_stl((0..panel.triangle_count()).map(|f| panel.corners(f)));
+    set(&out, "stl", &Uint8Array::from(stl.as_slice()).into())?;
+    let references = Array::new();
+    for r in &ex.references {
+        let o = Object::new();
+        let v = |p: &[f64]| serde_wasm_bindgen::to_value(&[p[0], p[1], p[2]]);
+        set(&o, "nominal", &v(r.nominal.coords.as_slice())?)?;
+        set(&o, "actual", &v(r.actual.coords.as_slice())?)?;
+        set(&o, "normal", &v(r.normal.as_slice())?)?;
+        if let Some(n) = r.nominal_normal {
+            set(&o, "nominalNormal", &v(n.as_slice())?)?;
+        }
+        references.push(&o);
+    }
+    set(&out, "references", &references.into())?;
+    let ids: Array = ex.ids.iter().map(|i| JsValue::from_str(i)).collect();
+    set(&out, "ids", &ids.into())?;
+    set(
+        &out,
+        "holes",
+        &flat_f64(ex.holes.iter().map(|p| p.coords.as_slice())).into(),
+    )?;
+    set(
+        &out,
+        "truth",
+        &flat_f64(ex.truth.iter().map(|p| p.coords.as_slice())).into(),
+    )?;
+    Ok(out.into())
+}
+
+/// `{ approach?, retract?, feedSpeed?, linkSpeed? }` as JavaScript spells it.
+#[derive(serde::Deserialize, Default)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+struct PoseParamsSpec {
+    approach: Option<f64>,
+    retract: Option<f64>,
+    feed_speed: Option<f64>,
+    link_speed: Option<f64>,
+}
+
 #[wasm_bindgen]
 impl Mesh {
+    /// The drilling program of `correctHoles(params)` on this panel: approach, drill and
+    /// retract poses per hole (`pose`: `DrillPoseParams`), written as `format` = "csv",
+    /// "json" (one text) or "rapid", "krl" (one or more files) with `ExportOptions`.
+    /// Throws an `Error` naming bad input.
+    #[wasm_bindgen(js_name = drillingProgram)]
+    pub fn drilling_program(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "CorrectionParams")] params: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "DrillPoseParams | undefined")] pose: JsValue,
+        format: &str,
+        #[wasm_bindgen(unchecked_param_type = "ExportOptions | undefined")] options: JsValue,
+    ) -> Result<Vec<String>, JsError> {
+        let params = correction_params_from_js(params)?;
+        let spec: PoseParamsSpec = if pose.is_undefined() || pose.is_null() {
+            PoseParamsSpec::default()
+        } else {
+            let fields = ["approach", "retract", "feedSpeed", "linkSpeed"];
+            refuse_unknown_keys_of(&pose, &fields, "", "drilling pose parameters")?;
+            serde_wasm_bindgen::from_value(pose)
+                .map_err(|e| JsError::new(&format!("invalid drilling pose parameters: {e}")))?
+        };
+        let d = drill::PoseParams::default();
+        let pose = drill::PoseParams {
+            approach: spec.approach.unwrap_or(d.approach),
+            retract: spec.retract.unwrap_or(d.retract),
+            feed_speed: spec.feed_speed.unwrap_or(d.feed_speed),
+            link_speed: spec.link_speed.unwrap_or(d.link_speed),
+        };
+        let options = super::spray::export_options_from_js(options)?;
+        let correction = drill::correct_holes(&params, Some(&self.drill_index()))?;
+        let path = drill::drilling_path(&correction, &pose, Vec::new())?;
+        Ok(match format {
+            "csv" => vec![to_csv(&path, &options)?],
+            "json" => vec![to_json(&path, &options)?],
+            "rapid" => to_rapid(&path, &options)?,
+            "krl" => to_krl(&path, &options)?,
+            other => {
+                return Err(JsError::new(&format!(
+                    "unknown export format {other:?} (allowed: csv, json, rapid, krl)"
+                )))
+            }
+        })
+    }
+
     /// `correctHoles` on this panel: corrected holes are projected onto the mesh, the drilling
     /// normals are the mesh's there, and missing `nominalNormal`s default to the mesh's normal
     /// at the nominal reference hole. Same result object; throws an `Error` on bad input.

@@ -43,7 +43,7 @@ struct ExportOptionsSpec {
     max_moves: Option<usize>,
 }
 
-fn export_options_from_js(value: JsValue) -> Result<ExportOptions, JsError> {
+pub(crate) fn export_options_from_js(value: JsValue) -> Result<ExportOptions, JsError> {
     let spec: ExportOptionsSpec = if value.is_undefined() || value.is_null() {
         ExportOptionsSpec::default()
     } else {

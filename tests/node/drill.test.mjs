@@ -143,3 +143,38 @@ test('correctHoles refuses bad parameters with the reason', () => {
   refs[2].nominal = refs[1].nominal;
   assert.throws(() => correctHoles({ ...params(), references: refs }), /B and C coincide/);
 });
+
+test('parseHolesCsv keeps the good rows and reports bad ones by line', () => {
+  const list = wasm.parseHolesCsv('id,x,y,z\nH1, 1, 2, 3\n\nH2,4,five,6\nH3,7,8\nH4,10,11,12\n');
+  assert.deepEqual(list.ids, ['H1', 'H4']);
+  assert.deepEqual(Array.from(list.positions), [1, 2, 3, 10, 11, 12]);
+  assert.deepEqual(Array.from(list.lines), [2, 6]);
+  assert.equal(list.header, true);
+  assert.deepEqual(list.errors.map((e) => e.line), [4, 5]);
+  assert.match(list.errors[0].message, /y = "five" is not a finite number/);
+});
+
+test('drillPaperExample gives the panel, the references and the truth; drillingProgram writes it', () => {
+  const ex = wasm.drillPaperExample();
+  assert.equal(ex.ids.length, 16);
+  assert.equal(ex.holes.length, 48);
+  assert.equal(ex.truth.length, 48);
+  assert.equal(ex.references.length, 4);
+  const mesh = Mesh.fromStl(ex.stl);
+  try {
+    const params = { references: ex.references, holes: ex.holes };
+    const err = (c) => Math.max(...ex.ids.map((_, i) => norm(sub(c.slice(3 * i, 3 * i + 3), ex.truth.slice(3 * i, 3 * i + 3)))));
+    const coons = err(mesh.correctHoles(params).corrected);
+    const bilinear = err(mesh.correctHoles({ ...params, method: 'bilinear' }).corrected);
+    assert.ok(err(ex.holes) > bilinear && bilinear > 10 * coons, `${err(ex.holes)} ${bilinear} ${coons}`);
+    const [rapid] = mesh.drillingProgram(params, { approach: 15 }, 'rapid', { name: 'dr_test' });
+    assert.equal((rapid.match(/MoveL /g) ?? []).length, 48);
+    const [csv] = mesh.drillingProgram(params, undefined, 'csv', undefined);
+    assert.equal(csv.trim().split('\n').length, 1 + 48);
+    assert.throws(() => mesh.drillingProgram(params, undefined, 'gcode', undefined), /unknown export format "gcode"/);
+    assert.throws(() => mesh.drillingProgram(params, { approach: -1 }, 'csv', undefined), /approach/);
+    assert.throws(() => mesh.drillingProgram(params, { approch: 1 }, 'csv', undefined), /approch/);
+  } finally {
+    mesh.free();
+  }
+});
