@@ -62,7 +62,10 @@ test('the TypeScript declarations name the drilling API', () => {
   for (const name of ['export function normalFromLasers(', ': [number, number, number]', 'laserReadings(',
     'closestPoints(points: Float64Array | number[]): ClosestPoints', 'export function correctHoles(params: CorrectionParams): HoleCorrection',
     'correctHoles(params: CorrectionParams): HoleCorrection;', 'export interface HoleCorrection {',
-    'export interface CorrectionParams {', 'export interface ReferenceHole {', 'export interface ClosestPoints {']) {
+    'export interface CorrectionParams {', 'export interface ReferenceHole {', 'export interface ClosestPoints {',
+    'export function parseHolesCsv(text: string): HoleList;', 'export function drillPaperExample(): DrillPaperExample;',
+    'drillingProgram(params: CorrectionParams, pose: DrillPoseParams | undefined, format: string, options: ExportOptions | undefined): string[];',
+    'export interface HoleList {', 'export interface DrillPoseParams {', 'export interface DrillPaperExample {']) {
     assert.ok(dts.includes(name), `skinpath.d.ts lacks "${name}"`);
   }
 });
