@@ -27,7 +27,7 @@ const XYZ = ['x', 'y', 'z'];
 const PAPER = { uncorrected: [5.586, 3.302], bilinear: [2.442, 0.175], coons: [0.628, 0.005] };
 const EXAMPLE_FILE = 'paper_60deg_panel.stl';
 /** Colours (Okabe & Ito). */
-const COLORS = { reference: '#0072B2', nominal: '#6b7480', corrected: '#009E73', vector: '#D55E00' };
+const COLORS = { reference: '#CC79A7', nominal: '#6b7480', corrected: '#009E73', vector: '#D55E00' };
 /** Marker half size as a fraction of the model's diagonal. */
 const MARKER = 0.01;
 
@@ -142,6 +142,7 @@ class DrillTool {
   #result = null; // { params, ids, holes, coons, bilinear, truth, model }
   #example = null; // DrillPaperExample while its panel is on screen
   #pendingExample = null;
+  #frameExample = false; // look at the example's panel from outside once its holes are drawn
 
   mount(shell, { panel, results, overlay }) {
     this.#shell = shell;
@@ -282,6 +283,10 @@ class DrillTool {
       this.#result = { params, ids: list.ids, holes: list.positions, ...out, truth, model: shell.state.model.name };
       this.#renderResults();
       this.#draw();
+      if (this.#frameExample) {
+        this.#frameExample = false;
+        shell.viewer.setView('top');
+      }
       shell.setStatus(`Corrected ${list.ids.length} holes${list.errors.length ? ` (${list.errors.length} bad row${list.errors.length === 1 ? '' : 's'} skipped)` : ''}.`);
     });
   }
@@ -385,9 +390,9 @@ class DrillTool {
     }
     const scale = this.#s[`${P}scale`];
     const items = [
-      [COLORS.reference, 'Reference holes A–D (nominal → measured)'],
+      [COLORS.reference, 'Reference holes A–D (nominal → measured, same scale)'],
       [COLORS.nominal, 'Nominal holes'],
-      [COLORS.corrected, `Corrected holes (${this.#s[`${P}method`] === 'coons' ? 'Coons' : 'bilinear'})`],
+      [COLORS.corrected, `Corrected holes (${this.#s[`${P}method`] === 'coons' ? 'Coons' : 'bilinear'}), at the tips`],
       [COLORS.vector, `Corrections drawn × ${num(scale, 3)}`],
     ];
     const list = document.createElement('ul');
@@ -616,6 +621,7 @@ class DrillTool {
     this.#validate();
     if (this.#pendingExample && model.name === EXAMPLE_FILE) {
       this.#pendingExample = null;
+      this.#frameExample = true;
       // After the load job: the shell runs jobs one at a time.
       queueMicrotask(() => this.run());
     } else if (model.name !== EXAMPLE_FILE) {
