@@ -1,5 +1,6 @@
 //! The crate's error type: one variant per module, each wrapping that module's own enum.
 
+use crate::drill::DrillError;
 use crate::geodesic::GeodesicError;
 use crate::mesh::{MeshError, StlError};
 use crate::segment::ParamError;
@@ -27,6 +28,9 @@ pub enum Error {
     /// A geodesic source or parameter is invalid.
     #[error(transparent)]
     Geodesic(#[from] GeodesicError),
+    /// Drilling input (laser readings, reference holes, holes) is invalid.
+    #[error(transparent)]
+    Drill(#[from] DrillError),
 }
 
 /// `Result` with the crate's [`Error`].

@@ -26,6 +26,7 @@
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
 
+pub mod drill;
 pub mod error;
 pub mod geodesic;
 pub mod math;

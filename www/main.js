@@ -5,7 +5,9 @@
 import { shell } from './app/shell.js';
 import { segmentTool } from './tools/segment.js';
 import { sprayTool } from './tools/spray.js';
+import { drillTool } from './tools/drill.js';
 
 shell.addTool(segmentTool);
 shell.addTool(sprayTool);
+shell.addTool(drillTool);
 shell.start();

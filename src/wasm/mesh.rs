@@ -9,7 +9,9 @@ use wasm_bindgen::prelude::*;
 /// A welded, consistently wound triangle mesh read from STL.
 #[wasm_bindgen]
 pub struct Mesh {
-    inner: Rc<ImportedMesh>,
+    pub(super) inner: Rc<ImportedMesh>,
+    /// Ray-cast and closest-point index, built by the first drilling query.
+    pub(super) index: std::cell::OnceCell<Rc<crate::drill::MeshIndex>>,
 }
 
 #[wasm_bindgen]
@@ -28,6 +30,7 @@ impl Mesh {
         let imported = import_stl(&bytes, &mut progress_fn(on_progress))?;
         Ok(Mesh {
             inner: Rc::new(imported),
+            index: std::cell::OnceCell::new(),
         })
     }
 

@@ -2,6 +2,7 @@
 //! function and convert back. Names are camelCase through `js_name`. Every failure reaches
 //! JavaScript as an `Error` whose message is the core's; a panic is a bug.
 
+mod drill;
 mod geodesic;
 mod mesh;
 mod params;
@@ -42,6 +43,28 @@ export interface SegmentParams {
 }
 /** The growing threshold: radians for "angle", 1 / length for "curvature". */
 export interface Threshold { kind: "angle" | "curvature"; value: number }
+/** One reference hole: nominal and measured position, measured outward normal, and the
+ *  nominal (CAD) normal (default: the mesh's normal at `nominal` with `mesh.correctHoles`,
+ *  else `normal`). Model units. */
+export interface ReferenceHole {
+  nominal: [number, number, number]; actual: [number, number, number];
+  normal: [number, number, number]; nominalNormal?: [number, number, number];
+}
+/** Hole correction: references A, B, C, D in order (A→B across the flight direction), nominal
+ *  holes as flat xyz; method (default "coons"); tangentScale: tangent length in chords, (0, 3]
+ *  (default: the arc-matching length); extrapolate: correct holes outside the references. */
+export interface CorrectionParams {
+  references: ReferenceHole[]; holes: Float64Array | number[]; method?: "coons" | "bilinear";
+  tangentScale?: number; extrapolate?: boolean;
+}
+/** Corrected holes (flat xyz), unit outward normals (the drilling axis is their opposite),
+ *  patch parameters u (A→B) and w (A→D), and 1 where a hole lies outside (extrapolated). */
+export interface HoleCorrection {
+  corrected: Float64Array; normals: Float64Array; u: Float64Array; w: Float64Array;
+  outside: Uint8Array;
+}
+/** Closest mesh points (flat xyz), interpolated unit normals (mesh winding), distances. */
+export interface ClosestPoints { points: Float64Array; normals: Float64Array; distances: Float64Array }
 /** One kept patch; ids by decreasing area. */
 export interface Patch {
   id: number; triangleCount: number; area: number; normal: [number, number, number];

@@ -362,6 +362,52 @@ impl ParamReader {
         self.get(key)
     }
 
+    /// A list of exactly `count` parameter objects with the declared `keys` (messages say
+    /// "key[i].inner"); `None` when absent. Elements are read through catching imports.
+    pub fn optional_objects(
+        &self,
+        key: &'static str,
+        count: u32,
+        keys: &[&'static str],
+    ) -> Result<Option<Vec<ParamReader>>, ArgError> {
+        let Some(v) = self.get(key)? else {
+            return Ok(None);
+        };
+        let name = self.name(key);
+        if self.depth >= MAX_DEPTH {
+            return Err(ArgError(format!(
+                "{name} is nested more than {MAX_DEPTH} objects deep"
+            )));
+        }
+        if !is_array(&v).unwrap_or(false) {
+            return Err(self.wrong_type(key, &format!("an array of {count} objects"), &v));
+        }
+        let length = v.unchecked_ref::<js_sys::Array>().length();
+        if length != count {
+            return Err(ArgError(format!(
+                "{name} must list exactly {count} entries, got {length}"
+            )));
+        }
+        let mut out = Vec::with_capacity(count as usize);
+        for i in 0..count {
+            let item = Reflect::get_u32(&v, i).map_err(|e| {
+                ArgError(format!(
+                    "reading {name}[{i}] threw: {}",
+                    exception_message(&e)
+                ))
+            })?;
+            let reader = ParamReader {
+                object: item,
+                noun: self.noun,
+                prefix: format!("{name}[{i}]."),
+                depth: self.depth + 1,
+            };
+            reader.check(&format!("{name}[{i}]"), keys)?;
+            out.push(reader);
+        }
+        Ok(Some(out))
+    }
+
     /// A nested parameter object with its own declared `keys`, read with its own reader
     /// (messages say "key.inner"). Refused beyond [`MAX_DEPTH`], so a schema cannot recurse
     /// without bound.

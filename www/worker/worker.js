@@ -12,7 +12,8 @@
 // `broken` means the wasm instance may be corrupt: the page then replaces this worker. Cancel
 // also replaces the worker (a running wasm call cannot be interrupted otherwise).
 //
-// A tool's worker module exports { ops, onOpen?, onMeshChanged? }:
+// A tool's worker module exports { ops, onOpen?, onMeshChanged?, meshFree? }
+// (meshFree: names of ops that run without a model):
 //   ops[name](ctx, message, progress) -> [result, transferList]    handles '<tool>.<name>'
 //   onOpen(ctx, params, progress) -> result        runs right after parsing when the page sent
 //                                                  params for this tool (segment: segmenting)
@@ -22,8 +23,9 @@
 import init, { Mesh, wasmMemoryBytes } from '../pkg/skinpath.js';
 import * as segmentTool from './segment.js';
 import * as sprayTool from './spray.js';
+import * as drillTool from './drill.js';
 
-const TOOLS = { segment: segmentTool, spray: sprayTool };
+const TOOLS = { segment: segmentTool, spray: sprayTool, drill: drillTool };
 
 /** Posts progress at most once per whole percent per stage: the core may call back often. */
 function progressFor(id) {
@@ -148,7 +150,7 @@ function handlerOf(op) {
   const handler = TOOLS[tool]?.ops?.[name];
   if (!handler) return null;
   return (msg) => {
-    if (!ctx.mesh) throw new Error('No model is loaded.');
+    if (!ctx.mesh && !TOOLS[tool].meshFree?.includes(name)) throw new Error('No model is loaded.');
     return handler(ctx, msg, progressFor(msg.id));
   };
 }

@@ -1,0 +1,77 @@
+// The Drill tool in headless Chromium: the paper's example in one click (its panel becomes
+// the model, the errors uncorrected > bilinear > Coons appear beside the paper's figures),
+// a hole list with a bad row, and the robot-program and hole CSV exports.
+import { after, before, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { join } from 'node:path';
+import { openAppWithSample, outputDir, saveDownload, waitForModel, waitForReady } from './helpers.mjs';
+
+let app;
+before(async () => {
+  app = await openAppWithSample();
+});
+after(async () => {
+  await app?.close();
+});
+
+/** The figure in a cell of the comparison table (row key, column 1 = max, 2 = min). */
+const cell = (page, row, column) => page.locator(`#drill-compare tr[data-row="${row}"] td:nth-child(${column + 1})`).textContent()
+  .then(Number);
+
+test('the paper\'s example runs from the page and shows uncorrected > bilinear > Coons beside the paper', async () => {
+  const { page } = app;
+  await page.click('#tab-drill');
+  await page.click('#drill-example-button');
+  await waitForModel(page, 'paper_60deg_panel.stl');
+  await page.waitForSelector('#drill-compare tr[data-row="coons"]', { timeout: 30_000 });
+  await waitForReady(page);
+  const max = {};
+  const min = {};
+  for (const row of ['uncorrected', 'bilinear', 'coons']) {
+    max[row] = await cell(page, row, 1);
+    min[row] = await cell(page, row, 2);
+  }
+  assert.ok(max.uncorrected > max.bilinear && max.bilinear > max.coons, JSON.stringify(max));
+  assert.ok(min.uncorrected > min.bilinear && min.bilinear > min.coons, JSON.stringify(min));
+  assert.ok(max.uncorrected > 1, 'the panel moves by millimetres');
+  assert.ok(max.coons < 0.1 * max.bilinear, JSON.stringify(max));
+  const paper = await page.locator('#drill-compare tbody').textContent();
+  for (const figure of ['5.586 / 3.302', '2.442 / 0.175', '0.628 / 0.005']) assert.ok(paper.includes(figure), figure);
+  assert.equal(await page.locator('#drill-table tbody tr').count(), 16);
+  assert.equal(await page.locator('#drill-compare').evaluate((t) => t.closest('[hidden]')), null);
+  assert.match(await page.locator('#overlay-drill').textContent(), /Corrections drawn × 20/);
+  await page.screenshot({ path: join(outputDir, 'drill-example.png') });
+  assert.deepEqual(app.consoleErrors, []);
+});
+
+test('a bad hole row is reported by its line number and the good rows are kept', async () => {
+  const { page } = app;
+  const text = await page.inputValue('#drill-holes');
+  const lines = text.trim().split('\n');
+  lines.splice(3, 0, 'H99,12.5,oops,7'); // line 4
+  await page.fill('#drill-holes', `${lines.join('\n')}\n`);
+  await page.click('#drill-run');
+  await page.waitForFunction(() => /Line 4/.test(document.getElementById('drill-holes-report').textContent), null, { timeout: 30_000 });
+  await waitForReady(page);
+  const report = await page.textContent('#drill-holes-report');
+  assert.match(report, /^16 holes read \(first line taken as a header\)\. Line 4: y = "oops" is not a finite number\./);
+  assert.equal(await page.locator('#drill-table tbody tr').count(), 16);
+  assert.match(await page.textContent('#status'), /1 bad row skipped/);
+});
+
+test('the corrected holes export as a RAPID program and as a hole CSV', async () => {
+  const { page } = app;
+  const rapid = await saveDownload(page, () => page.click('#results-drill button[data-format="rapid"]'));
+  assert.match(rapid.name, /\.mod$/);
+  const program = rapid.bytes.toString('utf8');
+  assert.match(program, /MODULE \w+/);
+  // Approach, drill and retract for each of the 16 holes.
+  assert.ok((program.match(/MoveL /g) ?? []).length >= 48, 'three moves a hole');
+  const csv = await saveDownload(page, () => page.click('#results-drill button[data-format="holes"]'));
+  const rows = csv.bytes.toString('utf8').trim().split('\n');
+  assert.equal(rows[0], 'id,x,y,z,nx,ny,nz');
+  assert.equal(rows.length, 17);
+  const [, ...h01] = rows[1].split(',').map(Number);
+  assert.ok(Math.abs(Math.hypot(h01[3], h01[4], h01[5]) - 1) < 1e-5, 'unit normals');
+  assert.deepEqual(app.consoleErrors, []);
+});
