@@ -11,6 +11,9 @@
 //   - three.js STLLoader.parse of the same bytes (a plain, unwelded parse) for comparison
 //   - WebAssembly memory after import + segmentation, per triangle
 // Times are medians of several runs after a warm-up.
+// Spray cases: a generated cylindrical skin panel; Mesh.fromStl as the yardstick, one
+// planSpray (plan + simulate at one spacing) and one spacing search (maxError 0.2), with the
+// evaluation samples per second of the single plan. `npm run bench -- spray` runs only those.
 import { execFileSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
@@ -21,6 +24,7 @@ const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_0
   ['fuselage', 2_000_000], ['grid', 1_000_000], ['fan', 80_000], ['fan', 1_000_000],
   ['book', 50_000]];
 const SHAPES = ['fuselage', 'grid', 'fan', 'book'];
+const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000").split(",").map(Number);
 
 function toBinaryStl(tris) {
   const bytes = new Uint8Array(84 + 50 * tris.length);
@@ -104,6 +108,60 @@ export function fuselageStl(target) {
   return toBinaryStl(tris);
 }
 
+/** A cylindrical skin panel (radius 3, ±20°, length 2.5: about 2 × 2.5 in metres) of about
+ *  `target` triangles, normals outwards. */
+export function panelStl(target) {
+  const length = 2.5, radius = 3, half = (20 * Math.PI) / 180;
+  const across = Math.max(2, Math.round(Math.sqrt(target / 2 / (length / (2 * radius * half)))));
+  const along = Math.max(2, Math.round(target / (2 * across)));
+  const point = (i, j) => {
+    const a = -half + (2 * half * j) / across;
+    return [radius * Math.cos(a), radius * Math.sin(a), length * (1 - i / along)];
+  };
+  const tris = [];
+  for (let j = 0; j < across; j++) {
+    for (let i = 0; i < along; i++) {
+      tris.push([point(i, j), point(i + 1, j), point(i + 1, j + 1)], [point(i, j), point(i + 1, j + 1), point(i, j + 1)]);
+    }
+  }
+  return toBinaryStl(tris);
+}
+
+/** The page's spray defaults in metres: h 250 mm, v 400 mm/s, α 40°, Q 150 cm³/min, η 0.6, β_T 20°. */
+const SPRAY = {
+  spacing: 0.09, standoff: 0.25, speed: 0.4, flowRate: 150e-6 / 60, coneAngle: (40 * Math.PI) / 180,
+  transitionAngle: (20 * Math.PI) / 180, efficiency: 0.6,
+};
+
+async function runSpray(target) {
+  const { initSync, Mesh } = await import(join(root, 'dist/pkg/skinpath.js'));
+  initSync({ module: readFileSync(join(root, 'dist/pkg/skinpath_bg.wasm')) });
+  const bytes = panelStl(target);
+  const triangles = (bytes.length - 84) / 50;
+  const runs = triangles > 300_000 ? 1 : 3;
+  const parse = [], plan = [], search = [];
+  let samples = 0, passes = 0, found = 0, tried = 0;
+  for (let r = 0; r < runs; r++) {
+    globalThis.gc?.();
+    let t = performance.now();
+    const mesh = Mesh.fromStl(bytes);
+    parse.push(performance.now() - t);
+    t = performance.now();
+    const one = mesh.planSpray(SPRAY);
+    plan.push(performance.now() - t);
+    samples = one.sampleThickness().length;
+    one.free();
+    t = performance.now();
+    const best = mesh.planSpray({ ...SPRAY, quality: { maxError: 0.2 } });
+    search.push(performance.now() - t);
+    passes = best.passCount; found = best.spacing; tried = best.iterations().length;
+    best.free(); mesh.free();
+  }
+  const [p, q, s] = [median(parse), median(plan), median(search)];
+  return { triangles, fromStl: p, plan: q, search: s, ratio: s / p, samples, samplesPerSecond: samples / (q / 1000),
+    passes, spacing: found, tried };
+}
+
 function median(xs) {
   const s = [...xs].sort((a, b) => a - b);
   return s[Math.floor(s.length / 2)];
@@ -149,7 +207,10 @@ async function runOne(shape, target) {
 
 const isMain = process.argv[1] && fileURLToPath(import.meta.url) === process.argv[1];
 const sizeArg = !isMain ? -1 : process.argv.indexOf('--size');
-if (sizeArg > 0) {
+const sprayArg = !isMain ? -1 : process.argv.indexOf('--spray');
+if (sprayArg > 0) {
+  process.stdout.write(JSON.stringify(await runSpray(Number(process.argv[sprayArg + 1]))));
+} else if (sizeArg > 0) {
   const result = await runOne(process.argv[sizeArg + 2] ?? 'fuselage', Number(process.argv[sizeArg + 1]));
   process.stdout.write(JSON.stringify(result));
 } else if (isMain) {
@@ -164,7 +225,7 @@ if (sizeArg > 0) {
   }
   console.log('skinpath benchmark (Node %s): generated meshes, binary STL', process.version);
   console.log('shape      triangles   fromStl ms  fromStl µs/tri  segment ms  STLLoader ms  (fromStl+segment)/STLLoader  wasm MiB  bytes/triangle  patches');
-  for (const [shape, size] of chosen.length ? chosen : CASES) {
+  for (const [shape, size] of chosen.length ? chosen : args.includes('spray') ? [] : CASES) {
     const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
       fileURLToPath(import.meta.url), '--size', String(size), shape], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
     const r = JSON.parse(out);
@@ -173,5 +234,17 @@ if (sizeArg > 0) {
       `  ${(1000 * r.fromStl / r.triangles).toFixed(3).padStart(14)}  ${r.segment.toFixed(1).padStart(10)}` +
       `  ${r.stlLoader.toFixed(1).padStart(12)}  ${r.ratio.toFixed(2).padStart(27)}` +
       `  ${r.memoryMiB.toFixed(1).padStart(8)}  ${r.bytesPerTriangle.toFixed(1).padStart(14)}  ${String(r.patches).padStart(7)}`);
+  }
+  if (!chosen.length || args.includes('spray')) {
+    console.log('\nspray on a curved panel (2 × 2.5 m, page defaults; search with maxError 0.2)');
+    console.log('triangles   fromStl ms   plan ms   search ms  search/fromStl  eval samples  samples/s (plan)  passes  spacing m  tried');
+    for (const size of SPRAY_CASES) {
+      const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
+        fileURLToPath(import.meta.url), '--spray', String(size)], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
+      const r = JSON.parse(out);
+      console.log(`${String(r.triangles).padStart(9)}  ${r.fromStl.toFixed(1).padStart(11)}  ${r.plan.toFixed(1).padStart(8)}` +
+        `  ${r.search.toFixed(1).padStart(10)}  ${r.ratio.toFixed(1).padStart(14)}  ${String(r.samples).padStart(12)}` +
+        `  ${r.samplesPerSecond.toFixed(0).padStart(16)}  ${String(r.passes).padStart(6)}  ${r.spacing.toFixed(4).padStart(9)}  ${String(r.tried).padStart(5)}`);
+    }
   }
 }

@@ -24,7 +24,7 @@ use crate::math::{Real, Vector3};
 use crate::toolpath::ToolPath;
 
 /// Points farther than this multiple of the standoff along the gun axis get nothing.
-pub const MAX_AXIAL_RATIO: Real = 2.0;
+pub const MAX_AXIAL_RATIO: Real = 1.5;
 
 /// The spray model: footprint radius `R`, peak rate `A`, standoff `h`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -22,6 +22,10 @@ use crate::math::Real;
 use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
 use crate::toolpath::ToolPath;
 
+/// Cell size of the evaluation-sample grid as a fraction of `R`: small enough that a cone's
+/// box visits few points outside the cone, large enough that it visits few empty cells.
+const GRID_CELL_RATIO: Real = 0.5;
+
 /// A planned spray job.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SprayPlan {
@@ -141,7 +145,7 @@ pub fn plan_spray(
     frame.plane_offsets(params.spacing)?;
     progress("spray samples", 0.0);
     let samples = sample_faces(mesh, geometry, &frame.faces, resolved.resolution)?;
-    let grid = PointGrid::new(&samples.positions, resolved.radius);
+    let grid = PointGrid::new(&samples.positions, GRID_CELL_RATIO * resolved.radius);
     let interior = interior_mask(
         mesh,
         adjacency,

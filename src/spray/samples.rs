@@ -11,6 +11,8 @@
 //! Cost:   linear in the number of samples; refused above [`MAX_SAMPLES`] before allocating.
 //! Deviations: samples on an edge are shared between its two faces when both use the same
 //!         `k` (always at vertices); otherwise the display mesh has T-junctions there.
+//!         Slivers are split by their area (`k ≤ 2·√area / resolution`), so their samples
+//!         are farther apart than the resolution along their long edge.
 
 use super::params::{SprayError, MAX_SAMPLES};
 use crate::math::{Point3, Real, Vector3};
@@ -30,11 +32,16 @@ pub struct EvaluationSamples {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// Subdivisions of a face for `resolution`.
+/// Subdivisions of a face for `resolution`: its longest edge over the resolution, but no
+/// more than `2·√area / resolution`, so a sliver (a long edge, hardly any area) does not
+/// get thousands of samples; the two agree on well-shaped triangles.
 fn subdivisions(corners: &[Point3; 3], resolution: Real) -> usize {
     let [a, b, c] = corners;
     let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
-    (longest / resolution).ceil().max(1.0) as usize
+    let area = 0.5 * (b - a).cross(&(c - a)).norm();
+    let by_edge = (longest / resolution).ceil();
+    let by_area = (2.0 * area.sqrt() / resolution).ceil();
+    by_edge.min(by_area).max(1.0) as usize
 }
 
 /// Samples the faces `faces` at `resolution` (at least their vertices).

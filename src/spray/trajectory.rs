@@ -99,7 +99,13 @@ pub fn build_trajectory(
             }
             let edge = pass.points[j + 1];
             let (a, b) = (edge + ni * standoff, edge + nj * standoff);
-            let bisector = (ni + nj).normalize();
+            // Opposite normals (a fold back onto itself) have no bisector: keep the first.
+            let sum = ni + nj;
+            let bisector = if sum.norm() > 1e-9 {
+                sum.normalize()
+            } else {
+                ni
+            };
             if nj.dot(&t[j]) >= 0.0 {
                 // Convex edge (or a kink within a plane): the offset segments leave a gap.
                 push(a, -ni, t[j], PoseKind::Pass);
@@ -122,9 +128,14 @@ pub fn build_trajectory(
                     for s in 1..=steps {
                         let phi = s as Real / steps as Real;
                         // Slerp of the normal from ni to nj.
-                        let w0 = libm::sin((1.0 - phi) * beta) / libm::sin(beta);
-                        let w1 = libm::sin(phi * beta) / libm::sin(beta);
-                        let radial = (ni * w0 + nj * w1).normalize();
+                        let w0 = libm::sin((1.0 - phi) * beta);
+                        let w1 = libm::sin(phi * beta);
+                        let mixed = ni * w0 + nj * w1;
+                        let radial = if mixed.norm() > 1e-9 {
+                            mixed.normalize()
+                        } else {
+                            nj
+                        };
                         let p = edge + radial * standoff;
                         push(p, -radial, p - previous, PoseKind::Arc);
                         previous = p;

@@ -28,8 +28,54 @@ export interface SprayIteration { spacing: number; mean: number; stdDev: number;
 export interface ExportOptions { mmPerUnit?: number; name?: string; maxMoves?: number }
 "#;
 
+/// Keys of `SprayPlanParams`.
+const PARAM_KEYS: &[&str] = &[
+    "spacing",
+    "standoff",
+    "speed",
+    "flowRate",
+    "coneAngle",
+    "transitionAngle",
+    "efficiency",
+    "direction",
+    "rasterAngle",
+    "extension",
+    "timeStep",
+    "resolution",
+    "edgeExclusion",
+    "quality",
+    "targetThickness",
+];
+/// Keys of `SprayQualityLimits`.
+const QUALITY_KEYS: &[&str] = &["maxStdDev", "maxError", "minSpacing", "maxSpacing"];
+/// Keys of `ExportOptions`.
+const EXPORT_KEYS: &[&str] = &["mmPerUnit", "name", "maxMoves"];
+
+/// Refuses a key of the object `value` that is not in `allowed` (serde-wasm-bindgen reads
+/// only the fields it knows, so `deny_unknown_fields` alone would not see typos).
+fn refuse_unknown_keys(value: &JsValue, allowed: &[&str], what: &str) -> Result<(), JsError> {
+    if !value.is_object() {
+        return Ok(());
+    }
+    for key in js_sys::Object::keys(value.unchecked_ref::<js_sys::Object>()).iter() {
+        let key = key.as_string().unwrap_or_default();
+        if !allowed.contains(&key.as_str()) {
+            return Err(JsError::new(&format!(
+                "invalid {what}: unknown key '{key}'"
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Reads `SprayPlanParams` from JavaScript; unknown keys (usually typos) are refused.
 pub(crate) fn spray_params_from_js(value: JsValue) -> Result<SprayParams, JsError> {
+    refuse_unknown_keys(&value, PARAM_KEYS, "spray parameters")?;
+    if value.is_object() {
+        let quality = js_sys::Reflect::get(&value, &JsValue::from_str("quality"))
+            .map_err(|_| JsError::new("invalid spray parameters: quality is unreadable"))?;
+        refuse_unknown_keys(&quality, QUALITY_KEYS, "spray parameters: quality")?;
+    }
     serde_wasm_bindgen::from_value(value)
         .map_err(|e| JsError::new(&format!("invalid spray parameters: {e}")))
 }
@@ -44,6 +90,7 @@ struct ExportOptionsSpec {
 }
 
 fn export_options_from_js(value: JsValue) -> Result<ExportOptions, JsError> {
+    refuse_unknown_keys(&value, EXPORT_KEYS, "export options")?;
     let spec: ExportOptionsSpec = if value.is_undefined() || value.is_null() {
         ExportOptionsSpec::default()
     } else {
