@@ -44,6 +44,7 @@ fn main() {
         cone_angle: 40f64.to_radians(),
         transition_angle: 20f64.to_radians(),
         efficiency: 0.6,
+        resolution: args.get(3).and_then(|r| r.parse().ok()),
         ..SprayParams::default()
     };
     let report = |what: &str, plan: &SprayPlan, ms: f64| {
@@ -58,6 +59,9 @@ fn main() {
     let one = plan_spray(&mesh, &adjacency, &geometry, &faces, &p, &mut |_, _| {})
         .unwrap_or_else(|e| panic!("plan failed: {e}"));
     report("one plan", &one, t.elapsed().as_secs_f64() * 1e3);
+    if std::env::var_os("SPRAY_WHERE").is_some() {
+        where_extremes(&one);
+    }
     let q = SprayParams {
         quality: Some(QualityLimits {
             max_error: Some(0.2),
@@ -77,5 +81,62 @@ fn main() {
             it.std_dev * 1e6,
             it.met
         );
+    }
+}
+
+/// Prints where the thinnest and thickest interior and whole-patch samples lie.
+fn where_extremes(plan: &SprayPlan) {
+    let n = plan.thickness.len();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| plan.thickness[a].total_cmp(&plan.thickness[b]));
+    let near = |i: usize| {
+        let x = plan.samples.positions[i];
+        plan.path
+            .poses
+            .iter()
+            .filter(|q| q.kind.process_on())
+            .map(|q| {
+                (
+                    (q.position - x).norm(),
+                    -q.axis.dot(&plan.samples.normals[i]),
+                )
+            })
+            .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a })
+    };
+    for (label, ids) in [
+        (
+            "thinnest",
+            order.iter().take(5).copied().collect::<Vec<_>>(),
+        ),
+        ("thickest", order.iter().rev().take(5).copied().collect()),
+        (
+            "thinnest interior",
+            order
+                .iter()
+                .filter(|&&i| plan.interior[i])
+                .take(5)
+                .copied()
+                .collect(),
+        ),
+        (
+            "thickest interior",
+            order
+                .iter()
+                .rev()
+                .filter(|&&i| plan.interior[i])
+                .take(5)
+                .copied()
+                .collect(),
+        ),
+    ] {
+        for i in ids {
+            let (d, c) = near(i);
+            let p = plan.samples.positions[i];
+            let m = plan.samples.normals[i];
+            println!(
+                "  {label}: {:.2} µm at ({:.3}, {:.3}, {:.3}) n ({:.2}, {:.2}, {:.2}) interior {}; nearest pose {:.3} away, −axis·n {:.2}",
+                plan.thickness[i] * 1e6, p.x, p.y, p.z, m.x, m.y, m.z, plan.interior[i], d, c
+            );
+        }
     }
 }
