@@ -5,7 +5,7 @@
 
 use skinpath::mesh::{orient_consistently, read_stl, FaceAdjacency, FaceGeometry};
 use skinpath::segment::{segment, SegmentParams};
-use skinpath::spray::{plan_spray, QualityLimits, SprayParams, SprayPlan};
+use skinpath::spray::{patch_frame, plan_spray, QualityLimits, SprayParams, SprayPlan};
 use std::time::Instant;
 
 fn main() {
@@ -60,7 +60,9 @@ fn main() {
         .unwrap_or_else(|e| panic!("plan failed: {e}"));
     report("one plan", &one, t.elapsed().as_secs_f64() * 1e3);
     if std::env::var_os("SPRAY_WHERE").is_some() {
-        where_extremes(&one);
+        let frame = patch_frame(&mesh, &geometry, &faces, None, p.raster_angle)
+            .unwrap_or_else(|e| panic!("frame failed: {e}"));
+        where_extremes(&one, &frame.across);
     }
     let q = SprayParams {
         quality: Some(QualityLimits {
@@ -85,7 +87,7 @@ fn main() {
 }
 
 /// Prints where the thinnest and thickest interior and whole-patch samples lie.
-fn where_extremes(plan: &SprayPlan) {
+fn where_extremes(plan: &SprayPlan, across: &skinpath::math::Vector3) {
     let n = plan.thickness.len();
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&a, &b| plan.thickness[a].total_cmp(&plan.thickness[b]));
@@ -133,8 +135,11 @@ fn where_extremes(plan: &SprayPlan) {
             let (d, c) = near(i);
             let p = plan.samples.positions[i];
             let m = plan.samples.normals[i];
+            // Pass spacing along the surface over the spacing in space.
+            let pass_dir = m.cross(across).normalize();
+            let stretch = 1.0 / m.cross(&pass_dir).dot(across).abs();
             println!(
-                "  {label}: {:.2} µm at ({:.3}, {:.3}, {:.3}) n ({:.2}, {:.2}, {:.2}) interior {}; nearest pose {:.3} away, −axis·n {:.2}",
+                "  {label}: {:.2} µm at ({:.3}, {:.3}, {:.3}) n ({:.2}, {:.2}, {:.2}) interior {}; nearest pose {:.3} away, −axis·n {:.2}, passes {stretch:.2}× farther apart on the surface",
                 plan.thickness[i] * 1e6, p.x, p.y, p.z, m.x, m.y, m.z, plan.interior[i], d, c
             );
         }

@@ -76,22 +76,12 @@ pub fn time_sample_count(path: &ToolPath, step_length: Real) -> usize {
     count
 }
 
-/// Gauss–Legendre nodes on `[-1, 1]` (4 points: exact for polynomials of degree 7).
-const GAUSS_NODES: [Real; 4] = [
-    -0.861_136_311_594_052_6,
-    -0.339_981_043_584_856_3,
-    0.339_981_043_584_856_3,
-    0.861_136_311_594_052_6,
-];
+/// Gauss–Legendre nodes on `[-1, 1]` (3 points: exact for polynomials of degree 5).
+const GAUSS_NODES: [Real; 3] = [-0.774_596_669_241_483_4, 0.0, 0.774_596_669_241_483_4];
 /// Gauss–Legendre weights matching [`GAUSS_NODES`].
-const GAUSS_WEIGHTS: [Real; 4] = [
-    0.347_854_845_137_453_9,
-    0.652_145_154_862_546_1,
-    0.652_145_154_862_546_1,
-    0.347_854_845_137_453_9,
-];
+const GAUSS_WEIGHTS: [Real; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
 /// Longest run of gun-on moves integrated as one piece, as a multiple of `R`.
-pub const CHUNK_RADIUS_RATIO: Real = 2.0;
+pub const CHUNK_RADIUS_RATIO: Real = 4.0;
 /// Largest turn (radians) of the gun axis or of the travel direction within one piece.
 pub const CHUNK_TURN_RAD: Real = 0.1;
 /// A piece whose travel has `1 − k·(u·a)² ` below this (`k = 1 + R²/h²`, `u` the travel,
@@ -104,7 +94,7 @@ const MIN_LATERAL: Real = 0.5;
 /// whose axis and direction turn by at most [`CHUNK_TURN_RAD`]. For each sample near a
 /// piece, the chord of the piece's straight line (start to end, mean axis) inside the cone
 /// is found in closed form (a quadratic in the line parameter), and the rate is integrated
-/// over that chord by 4-point Gauss–Legendre at the exact interpolated poses. On a plane
+/// over that chord by 3-point Gauss–Legendre at the exact interpolated poses. On a plane
 /// under a constant axis the rate along the chord is a parabola, so the quadrature is exact
 /// there. Pieces moving nearly along their axis fall back to midpoint time steps of
 /// `time_step`, which also bounds the work ([`MAX_TIME_SAMPLES`]).
