@@ -63,6 +63,16 @@ fn main() {
         let frame = patch_frame(&mesh, &geometry, &faces, None, p.raster_angle)
             .unwrap_or_else(|e| panic!("frame failed: {e}"));
         where_extremes(&one, &frame.across);
+        let n = frame.arc.len() - 1;
+        println!(
+            "  width {:.3}, arc {:.3}; arc at quarters {:.3} {:.3} {:.3}; offsets at 0.09: {:?}",
+            frame.width(),
+            frame.arc[n],
+            frame.arc[n / 4],
+            frame.arc[n / 2],
+            frame.arc[3 * n / 4],
+            frame.plane_offsets(0.09).map(|o| o.len())
+        );
     }
     let q = SprayParams {
         quality: Some(QualityLimits {

@@ -8,7 +8,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use common::{binary_stl, import, Tri};
 use skinpath::mesh::ImportedMesh;
-use skinpath::spray::{plan_spray, QualityLimits, SprayError, SprayParams, SprayPlan};
+use skinpath::spray::{patch_frame, plan_spray, QualityLimits, SprayError, SprayParams, SprayPlan};
 use skinpath::toolpath::PoseKind;
 use std::f64::consts::PI;
 
@@ -147,13 +147,51 @@ fn cylinder_panel(rc: f64, half: f64, length: f64, facets: usize, rows: usize) -
     m
 }
 
+/// The patch's width across the passes measured along the surface (the planner's table).
+fn surface_width(m: &ImportedMesh) -> f64 {
+    let faces: Vec<u32> = (0..m.mesh.triangle_count() as u32).collect();
+    let frame = patch_frame(&m.mesh, &m.geometry, &faces, None, 0.0).unwrap();
+    frame.arc[frame.arc.len() - 1]
+}
+
+#[test]
+fn scan_planes_are_spaced_along_the_surface_on_a_cylinder() {
+    // Radius 100, ±60°, facets of 2°: passes run along the axis (the longer side, 600).
+    let (rc, half, facets) = (100.0, PI / 3.0, 60);
+    let m = cylinder_panel(rc, half, 600.0, facets, 6);
+    let polygon = facets as f64 * 2.0 * rc * (half / facets as f64).sin();
+    assert_near!(surface_width(&m), polygon, 1e-3 * polygon);
+    let b = 20.0;
+    let plan = plan(&m, &params(b)).unwrap();
+    // ceil(arc / b) planes, b apart along the surface: angles b / rc apart on the cylinder.
+    assert_eq!(plan.pass_count, (polygon / b).ceil() as usize);
+    let mut angles: Vec<f64> = (0..plan.pass_count as u32)
+        .map(|k| {
+            let q = plan
+                .path
+                .poses
+                .iter()
+                .find(|q| q.pass == k && q.kind == PoseKind::Pass)
+                .unwrap();
+            // The gun stands h off the surface along the axis: the surface point is below.
+            let x = q.position + q.axis * H;
+            x.y.atan2(x.x)
+        })
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    for w in angles.windows(2) {
+        // Facets flatten the arc: within 2% of b / rc.
+        assert_near!(w[1] - w[0], b / rc, 0.02 * b / rc);
+    }
+}
+
 #[test]
 fn cylinder_panel_matches_a_direct_integration_and_the_curvature_matters() {
     let rc = 80.0;
     // An odd number of facets puts a facet centre at angle 0, where the single plane cuts.
     let m = cylinder_panel(rc, PI / 3.0, 600.0, 61, 6);
-    let ys = m.mesh.positions().iter().map(|q| q.y);
-    let width = ys.clone().fold(f64::NEG_INFINITY, f64::max) - ys.fold(f64::INFINITY, f64::min);
+    // Planes are spaced along the surface: a spacing of the whole arc gives one plane.
+    let width = surface_width(&m);
     let mut p = params(width);
     p.resolution = Some(R / 6.0);
     let plan = plan(&m, &p).unwrap();
