@@ -5,17 +5,23 @@
 //! planar rate `f(r) = A(1 − r²/R²)` for `r ≤ R`, `R = h·tan(α/2)`, `A = 2ηQ/(πR²)`
 //! (mass balance `∫f dA = ηQ`); on the surface `F(M') = F(M)·(h/l)²·cos λ / cos θ` with `l`
 //! the axial distance of `M'` from the gun, `θ` the ray's angle to the gun axis, `λ` the
-//! angle between the ray and the surface normal at `M'`; `cos λ ≤ 0` gets nothing. The
-//! trajectory is cut into time samples; each adds `F·Δt` to every point in its cone.
+//! angle between the ray and the surface normal at `M'`; `cos λ ≤ 0` gets nothing. The patent
+//! cuts the trajectory into time samples; here each straight piece is integrated over the
+//! chord of every point in its cone by Gauss–Legendre (see [`deposit`]).
 //! Input:  tool path (gun-on moves), evaluation samples bucketed in a [`PointGrid`].
 //! Output: thickness per sample, mesh unit.
-//! Cost:   O(time samples × points per cone): each sample visits only the grid cells around
-//!         its cone, truncated at an axial distance of [`MAX_AXIAL_RATIO`]·h.
+//! Cost:   O(pieces × points near a piece × 3 rate evaluations): a piece is at most
+//!         [`CHUNK_RADIUS_RATIO`]·R long and visits the grid cells of its swept cone,
+//!         truncated at an axial distance of [`MAX_AXIAL_RATIO`]·h; each point gets about
+//!         `2R / piece + 1` pieces × 3 evaluations instead of `2R / (v·Δt)` time steps.
 //! Deviations: occlusion by other parts of the mesh is ignored (every point in the cone
 //!         with `cos λ > 0` is coated); points farther than `MAX_AXIAL_RATIO·h` along the axis
 //!         are ignored; the gun moves at constant speed `v` along every gun-on move (arcs
 //!         included), position interpolated linearly and axis normalised-linearly between
-//!         poses; each time sample sits at the middle of its interval (midpoint rule).
+//!         poses; the chord is that of the piece's straight line under its mean axis (the
+//!         rate itself uses the exact interpolated pose), so where the axis turns within a
+//!         piece (at most [`CHUNK_TURN_RAD`]) the ends of the chord are approximate; pieces
+//!         moving along their axis are time-stepped at the midpoints of steps `v·Δt`.
 
 use super::grid::PointGrid;
 use super::params::{SprayError, MAX_TIME_SAMPLES};
@@ -136,13 +142,12 @@ pub fn deposit(
             let step = poses[end + 1].position - poses[end].position;
             let length = step.norm();
             let total = cumulative[cumulative.len() - 1] + length;
-            if end > start {
-                if total > max_length
+            if end > start
+                && (total > max_length
                     || poses[end + 1].axis.dot(&poses[start].axis) < cos_turn
-                    || first_dir.is_some_and(|d| length > 0.0 && step.dot(&d) < cos_turn * length)
-                {
-                    break;
-                }
+                    || first_dir.is_some_and(|d| length > 0.0 && step.dot(&d) < cos_turn * length))
+            {
+                break;
             }
             if first_dir.is_none() && length > 0.0 {
                 first_dir = Some(step / length);

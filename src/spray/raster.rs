@@ -6,12 +6,21 @@
 //! Input:  mesh, face adjacency and geometry; the selected faces; pass direction; spacing.
 //! Output: per plane, the passes (polylines of edge crossings with the face of each segment),
 //!         oriented along the pass direction and ordered along it.
-//! Cost:   O(F + S log S) for F selected faces and S scan segments: each face is bucketed to
-//!         the planes its extent spans, and segments of one plane are chained through the
+//! Cost:   O(F log P + S log S) for F selected faces, P planes and S scan segments: each
+//!         face is bucketed (binary search) to the planes its extent spans, and segments of one plane are chained through the
 //!         face adjacency (no search).
 //! Deviations (no paper for these): the default pass direction is the principal axis of
-//!         the patch in its mean plane (area-weighted vertex covariance); the planes are
-//!         centred on the patch so the outermost ones lie at most `b/2` inside its extremes;
+//!         the patch in its mean plane (area-weighted vertex covariance); `b` is measured
+//!         along the surface across the passes, not in space: a table of the surface
+//!         distance against the plane offset (per bin of [`ARC_BINS`], the mean stretch
+//!         `1/√(1 − (n·across)²)` of the faces spanning it, at most [`MAX_STRETCH`]) places
+//!         the planes, so where the patch is inclined by φ to its mean plane across the
+//!         passes they are `b·cos φ` apart in space and about `b` apart on the surface (the
+//!         patent spaces them `b` in space, which leaves passes `b/cos φ` apart on steep
+//!         parts); the stretch is averaged along each offset, so a patch steep in one place
+//!         and flat in another at the same offset gets the mean; the planes are centred on
+//!         the patch so the outermost ones lie at most `b/2` (along the surface) inside its
+//!         extremes;
 //!         a vertex exactly on a plane counts as above it, so neighbours agree on every
 //!         crossing; zero-length segments (a plane through a vertex) are dropped; a plane
 //!         meeting holes or a concave outline gives several passes.
