@@ -41,7 +41,7 @@ const SEGMENT_MIN_RATIO: Real = 1e-12;
 /// in the frame does not add a plane (the outermost margin may then exceed `b/2` by this much).
 const PLANE_COUNT_TOLERANCE: Real = 1e-6;
 /// Bins of the arc-length table across the passes.
-const ARC_BINS: usize = 1024;
+pub const ARC_BINS: usize = 1024;
 /// Largest stretch (surface distance over distance across the planes) a face counts with:
 /// a face almost parallel to the scan planes would otherwise count as infinitely long.
 pub const MAX_STRETCH: Real = 4.0;
