@@ -8,7 +8,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use common::{binary_stl, import, Tri};
 use skinpath::mesh::ImportedMesh;
-use skinpath::spray::{plan_spray, QualityLimits, SprayError, SprayParams, SprayPlan};
+use skinpath::spray::{patch_frame, plan_spray, QualityLimits, SprayError, SprayParams, SprayPlan};
 use skinpath::toolpath::PoseKind;
 use std::f64::consts::PI;
 
@@ -99,7 +99,7 @@ fn one_straight_pass_matches_the_closed_form() {
     for (y, t) in samples_between(&plan, 250.0, 550.0) {
         let x = y - 100.0;
         if x.abs() <= 0.8 * R {
-            assert_near!(t, single_pass(&p, x), 0.01 * peak);
+            assert_near!(t, single_pass(&p, x), 0.001 * peak);
             checked += 1;
         }
     }
@@ -118,7 +118,7 @@ fn parallel_passes_add_up_to_the_sum_of_closed_forms() {
     let mut checked = 0;
     for (y, t) in samples_between(&plan, 250.0, 550.0) {
         let expected: f64 = ys.iter().map(|&yk| single_pass(&p, y - yk)).sum();
-        assert_near!(t, expected, 0.015 * peak);
+        assert_near!(t, expected, 0.002 * peak);
         checked += 1;
     }
     assert!(checked > 200);
@@ -147,13 +147,51 @@ fn cylinder_panel(rc: f64, half: f64, length: f64, facets: usize, rows: usize) -
     m
 }
 
+/// The patch's width across the passes measured along the surface (the planner's table).
+fn surface_width(m: &ImportedMesh) -> f64 {
+    let faces: Vec<u32> = (0..m.mesh.triangle_count() as u32).collect();
+    let frame = patch_frame(&m.mesh, &m.geometry, &faces, None, 0.0).unwrap();
+    frame.arc[frame.arc.len() - 1]
+}
+
+#[test]
+fn scan_planes_are_spaced_along_the_surface_on_a_cylinder() {
+    // Radius 100, ±60°, facets of 2°: passes run along the axis (the longer side, 600).
+    let (rc, half, facets) = (100.0, PI / 3.0, 60);
+    let m = cylinder_panel(rc, half, 600.0, facets, 6);
+    let polygon = facets as f64 * 2.0 * rc * (half / facets as f64).sin();
+    assert_near!(surface_width(&m), polygon, 1e-3 * polygon);
+    let b = 20.0;
+    let plan = plan(&m, &params(b)).unwrap();
+    // ceil(arc / b) planes, b apart along the surface: angles b / rc apart on the cylinder.
+    assert_eq!(plan.pass_count, (polygon / b).ceil() as usize);
+    let mut angles: Vec<f64> = (0..plan.pass_count as u32)
+        .map(|k| {
+            let q = plan
+                .path
+                .poses
+                .iter()
+                .find(|q| q.pass == k && q.kind == PoseKind::Pass)
+                .unwrap();
+            // The gun stands h off the surface along the axis: the surface point is below.
+            let x = q.position + q.axis * H;
+            x.y.atan2(x.x)
+        })
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    for w in angles.windows(2) {
+        // Facets flatten the arc: within 2% of b / rc.
+        assert_near!(w[1] - w[0], b / rc, 0.02 * b / rc);
+    }
+}
+
 #[test]
 fn cylinder_panel_matches_a_direct_integration_and_the_curvature_matters() {
     let rc = 80.0;
     // An odd number of facets puts a facet centre at angle 0, where the single plane cuts.
     let m = cylinder_panel(rc, PI / 3.0, 600.0, 61, 6);
-    let ys = m.mesh.positions().iter().map(|q| q.y);
-    let width = ys.clone().fold(f64::NEG_INFINITY, f64::max) - ys.fold(f64::INFINITY, f64::min);
+    // Planes are spaced along the surface: a spacing of the whole arc gives one plane.
+    let width = surface_width(&m);
     let mut p = params(width);
     p.resolution = Some(R / 6.0);
     let plan = plan(&m, &p).unwrap();
@@ -217,7 +255,7 @@ fn cylinder_panel_matches_a_direct_integration_and_the_curvature_matters() {
             continue;
         }
         let expected = integrate([x.x, x.y, x.z], [n.x, n.y, n.z]);
-        assert_near!(t, expected, 0.01 * peak);
+        assert_near!(t, expected, 0.003 * peak);
         // The flat closed form at the same lateral distance ignores the curvature.
         let flat = single_pass(&p, x.y);
         largest_gap = largest_gap.max((flat - expected).abs());
@@ -564,6 +602,17 @@ fn planes_that_miss_the_patch_are_reported() {
 
 /// Runs the paper's set-up (h 250 mm, v 400 mm/s, α 40°, Q 150 cm³/min, η 0.6, β_T 20°) on
 /// the largest patch of a real model in metres, with the limit δ ≤ 0.2 and prints the figures.
+///
+/// Figures (resolution 0.04 m here; the page's default R/8 ≈ 0.011 m gives similar ones).
+/// Planes spaced b in space (before): bwb_4464 at b = 0.09 m: 382 passes, interior δ 1.18,
+/// E 4.5 µm, whole δ 1.18; wingbody_79868 at 0.09 m: 23 passes, interior δ 0.93,
+/// E 5.7 µm, whole δ 1.03 (samples with no paint: at the patch boundary where the surface
+/// is inclined ~55° to the mean plane across the passes, passes 1.74× farther apart on the
+/// surface than b). Planes spaced b along the surface (now): bwb_4464 398 passes,
+/// interior δ 1.28, E 4.7 µm; wingbody_79868 22 passes, interior δ 0.63, E 4.3 µm, whole
+/// δ 1.00. No spacing meets δ ≤ 0.2 on either patch: the thickest samples lie where the
+/// surface turns by up to θmax = 1 rad under planar scan planes (the bwb nose, ~2.2× the
+/// mean), which no spacing evens out.
 #[cfg(not(target_arch = "wasm32"))]
 fn real_model(name: &str) {
     use skinpath::segment::{segment, SegmentParams};
@@ -614,8 +663,8 @@ fn real_model(name: &str) {
     .unwrap();
     let q = plan.quality.interior;
     println!(
-        "{name} at spacing {} m without limits: {} passes, interior δ {:.3}, E {:.3} µm, mean {:.2} µm; whole δ {:.3}",
-        plan.spacing, plan.pass_count, q.error, q.std_dev * 1e6, q.mean * 1e6, plan.quality.whole.error
+        "{name} at spacing {} m without limits: {} passes, interior δ {:.3}, E {:.3} µm, mean {:.2} µm; whole δ {:.3}, E {:.3} µm",
+        plan.spacing, plan.pass_count, q.error, q.std_dev * 1e6, q.mean * 1e6, plan.quality.whole.error, plan.quality.whole.std_dev * 1e6
     );
 }
 

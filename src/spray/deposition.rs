@@ -5,23 +5,29 @@
 //! planar rate `f(r) = A(1 − r²/R²)` for `r ≤ R`, `R = h·tan(α/2)`, `A = 2ηQ/(πR²)`
 //! (mass balance `∫f dA = ηQ`); on the surface `F(M') = F(M)·(h/l)²·cos λ / cos θ` with `l`
 //! the axial distance of `M'` from the gun, `θ` the ray's angle to the gun axis, `λ` the
-//! angle between the ray and the surface normal at `M'`; `cos λ ≤ 0` gets nothing. The
-//! trajectory is cut into time samples; each adds `F·Δt` to every point in its cone.
+//! angle between the ray and the surface normal at `M'`; `cos λ ≤ 0` gets nothing. The patent
+//! cuts the trajectory into time samples; here each straight piece is integrated over the
+//! chord of every point in its cone by Gauss–Legendre (see [`deposit`]).
 //! Input:  tool path (gun-on moves), evaluation samples bucketed in a [`PointGrid`].
 //! Output: thickness per sample, mesh unit.
-//! Cost:   O(time samples × points per cone): each sample visits only the grid cells around
-//!         its cone, truncated at an axial distance of [`MAX_AXIAL_RATIO`]·h.
+//! Cost:   O(pieces × points near a piece × 3 rate evaluations): a piece is at most
+//!         [`CHUNK_RADIUS_RATIO`]·R long and visits the grid cells of its swept cone,
+//!         truncated at an axial distance of [`MAX_AXIAL_RATIO`]·h; each point gets about
+//!         `2R / piece + 1` pieces × 3 evaluations instead of `2R / (v·Δt)` time steps.
 //! Deviations: occlusion by other parts of the mesh is ignored (every point in the cone
 //!         with `cos λ > 0` is coated); points farther than `MAX_AXIAL_RATIO·h` along the axis
 //!         are ignored; the gun moves at constant speed `v` along every gun-on move (arcs
 //!         included), position interpolated linearly and axis normalised-linearly between
-//!         poses; each time sample sits at the middle of its interval (midpoint rule).
+//!         poses; the chord is that of the piece's straight line under its mean axis (the
+//!         rate itself uses the exact interpolated pose), so where the axis turns within a
+//!         piece (at most [`CHUNK_TURN_RAD`]) the ends of the chord are approximate; pieces
+//!         moving along their axis are time-stepped at the midpoints of steps `v·Δt`.
 
 use super::grid::PointGrid;
 use super::params::{SprayError, MAX_TIME_SAMPLES};
 use super::samples::EvaluationSamples;
-use crate::math::{Real, Vector3};
-use crate::toolpath::ToolPath;
+use crate::math::{Point3, Real, Vector3};
+use crate::toolpath::{Pose, ToolPath};
 
 /// Points farther than this multiple of the standoff along the gun axis get nothing.
 pub const MAX_AXIAL_RATIO: Real = 1.5;
@@ -76,7 +82,28 @@ pub fn time_sample_count(path: &ToolPath, step_length: Real) -> usize {
     count
 }
 
-/// Thickness per sample after spraying `path` at speed `speed` with time step `time_step`.
+/// Gauss–Legendre nodes on `[-1, 1]` (3 points: exact for polynomials of degree 5).
+const GAUSS_NODES: [Real; 3] = [-0.774_596_669_241_483_4, 0.0, 0.774_596_669_241_483_4];
+/// Gauss–Legendre weights matching [`GAUSS_NODES`].
+const GAUSS_WEIGHTS: [Real; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
+/// Longest run of gun-on moves integrated as one piece, as a multiple of `R`.
+pub const CHUNK_RADIUS_RATIO: Real = 4.0;
+/// Largest turn (radians) of the gun axis or of the travel direction within one piece.
+pub const CHUNK_TURN_RAD: Real = 0.1;
+/// A piece whose travel has `1 − k·(u·a)² ` below this (`k = 1 + R²/h²`, `u` the travel,
+/// `a` the axis) moves too much along its axis for the chord formula; it is time-stepped.
+const MIN_LATERAL: Real = 0.5;
+
+/// Thickness per sample after spraying `path` at speed `speed`.
+///
+/// Consecutive gun-on moves are grouped into pieces of at most [`CHUNK_RADIUS_RATIO`]·R
+/// whose axis and direction turn by at most [`CHUNK_TURN_RAD`]. For each sample near a
+/// piece, the chord of the piece's straight line (start to end, mean axis) inside the cone
+/// is found in closed form (a quadratic in the line parameter), and the rate is integrated
+/// over that chord by 3-point Gauss–Legendre at the exact interpolated poses. On a plane
+/// under a constant axis the rate along the chord is a parabola, so the quadrature is exact
+/// there. Pieces moving nearly along their axis fall back to midpoint time steps of
+/// `time_step`, which also bounds the work ([`MAX_TIME_SAMPLES`]).
 pub fn deposit(
     path: &ToolPath,
     samples: &EvaluationSamples,
@@ -94,13 +121,172 @@ pub fn deposit(
         });
     }
     let mut thickness = vec![0.0; samples.positions.len()];
-    let reach = MAX_AXIAL_RATIO * model.standoff;
-    let spread = model.radius * MAX_AXIAL_RATIO;
-    for pair in path.poses.windows(2) {
-        let (p0, p1) = (&pair[0], &pair[1]);
-        if !p1.kind.process_on() {
+    let poses = &path.poses;
+    let max_length = CHUNK_RADIUS_RATIO * model.radius;
+    let cos_turn = libm::cos(CHUNK_TURN_RAD);
+    let mut cumulative: Vec<Real> = Vec::new();
+    let mut j = 0;
+    // Each round consumes at least one pose, so the loop ends.
+    while j + 1 < poses.len() {
+        if !poses[j + 1].kind.process_on() {
+            j += 1;
             continue;
         }
+        // Grow a piece from pose j.
+        let start = j;
+        cumulative.clear();
+        cumulative.push(0.0);
+        let mut first_dir: Option<Vector3> = None;
+        let mut end = j;
+        while end + 1 < poses.len() && poses[end + 1].kind.process_on() {
+            let step = poses[end + 1].position - poses[end].position;
+            let length = step.norm();
+            let total = cumulative[cumulative.len() - 1] + length;
+            if end > start
+                && (total > max_length
+                    || poses[end + 1].axis.dot(&poses[start].axis) < cos_turn
+                    || first_dir.is_some_and(|d| length > 0.0 && step.dot(&d) < cos_turn * length))
+            {
+                break;
+            }
+            if first_dir.is_none() && length > 0.0 {
+                first_dir = Some(step / length);
+            }
+            cumulative.push(total);
+            end += 1;
+        }
+        deposit_piece(
+            &poses[start..=end],
+            &cumulative,
+            samples,
+            grid,
+            model,
+            speed,
+            step_length,
+            &mut thickness,
+        );
+        j = end;
+    }
+    Ok(thickness)
+}
+
+/// Bounding box of the cone at `gun` along `axis`, truncated at the axial reach.
+fn cone_box(model: &SprayModel, gun: &Point3, axis: &Vector3) -> (Vector3, Vector3) {
+    let reach = MAX_AXIAL_RATIO * model.standoff;
+    let spread = model.radius * MAX_AXIAL_RATIO;
+    let tip = gun.coords + axis * reach;
+    let half = axis.map(|c| spread * (1.0 - c * c).max(0.0).sqrt());
+    (gun.coords.inf(&(tip - half)), gun.coords.sup(&(tip + half)))
+}
+
+/// Gun position and unit axis at arc length `sigma` along a piece.
+fn pose_at(poses: &[Pose], cumulative: &[Real], sigma: Real) -> (Point3, Vector3) {
+    // First segment whose end lies at or beyond sigma.
+    let k = cumulative[1..]
+        .partition_point(|&c| c < sigma)
+        .min(cumulative.len() - 2);
+    let (p0, p1) = (&poses[k], &poses[k + 1]);
+    let length = cumulative[k + 1] - cumulative[k];
+    let tau = if length > 0.0 {
+        ((sigma - cumulative[k]) / length).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let gun = p0.position + (p1.position - p0.position) * tau;
+    let axis = (p0.axis * (1.0 - tau) + p1.axis * tau).normalize();
+    (gun, axis)
+}
+
+/// Adds the coating of one piece (`poses`, arc lengths `cumulative` from its start).
+#[allow(clippy::too_many_arguments)]
+fn deposit_piece(
+    poses: &[Pose],
+    cumulative: &[Real],
+    samples: &EvaluationSamples,
+    grid: &PointGrid,
+    model: &SprayModel,
+    speed: Real,
+    step_length: Real,
+    thickness: &mut [Real],
+) {
+    let arc = cumulative[cumulative.len() - 1];
+    if arc <= 0.0 {
+        return;
+    }
+    let (first, last) = (&poses[0], &poses[poses.len() - 1]);
+    let chord = last.position - first.position;
+    let line = chord.norm();
+    let mean_axis = (first.axis + last.axis).normalize();
+    let k = 1.0 + (model.radius * model.radius) / (model.standoff * model.standoff);
+    let u = if line > 0.0 {
+        chord / line
+    } else {
+        Vector3::zeros()
+    };
+    let ua = u.dot(&mean_axis);
+    let c2 = 1.0 - k * ua * ua;
+    if line <= 0.0 || c2 < MIN_LATERAL || !mean_axis.iter().all(|c| c.is_finite()) {
+        deposit_stepped(poses, samples, grid, model, speed, step_length, thickness);
+        return;
+    }
+    let reach = MAX_AXIAL_RATIO * model.standoff;
+    let (lo0, hi0) = cone_box(model, &first.position, &first.axis);
+    let (lo1, hi1) = cone_box(model, &last.position, &last.axis);
+    // The axis turns by at most CHUNK_TURN_RAD inside the piece: widen by that much.
+    let margin = Vector3::repeat(reach * CHUNK_TURN_RAD);
+    let (lo, hi) = (lo0.inf(&lo1) - margin, hi0.sup(&hi1) + margin);
+    let to_arc = arc / line;
+    grid.for_each_in_box(&lo, &hi, |i| {
+        let q = samples.positions[i];
+        let w0 = q - first.position;
+        let l0 = w0.dot(&mean_axis);
+        // Inside the cone: |w(s)|² − k·l(s)² < 0 with w(s) = w0 − s·u, l(s) = l0 − s·ua.
+        let b1 = w0.dot(&u) - k * l0 * ua;
+        let c0 = w0.norm_squared() - k * l0 * l0;
+        let disc = b1 * b1 - c2 * c0;
+        if disc <= 0.0 {
+            return;
+        }
+        let root = disc.sqrt();
+        let mut s0 = ((b1 - root) / c2).max(0.0);
+        let mut s1 = ((b1 + root) / c2).min(line);
+        // In front of the gun (l > 0) and within the reach (l ≤ reach); l is linear in s.
+        if ua > 0.0 {
+            s1 = s1.min(l0 / ua);
+            s0 = s0.max((l0 - reach) / ua);
+        } else if ua < 0.0 {
+            s0 = s0.max(l0 / ua);
+            s1 = s1.min((l0 - reach) / ua);
+        } else if l0 <= 0.0 || l0 > reach {
+            return;
+        }
+        if s1 <= s0 {
+            return;
+        }
+        let (mid, half) = (0.5 * (s0 + s1), 0.5 * (s1 - s0));
+        let mut sum = 0.0;
+        for (x, wt) in GAUSS_NODES.iter().zip(&GAUSS_WEIGHTS) {
+            let (gun, axis) = pose_at(poses, cumulative, (mid + half * x) * to_arc);
+            sum += wt * model.rate(&(q - gun), &axis, &samples.normals[i]);
+        }
+        if sum > 0.0 {
+            thickness[i] += sum * half * to_arc / speed;
+        }
+    });
+}
+
+/// Midpoint time steps of length `step_length` over every move of a piece.
+fn deposit_stepped(
+    poses: &[Pose],
+    samples: &EvaluationSamples,
+    grid: &PointGrid,
+    model: &SprayModel,
+    speed: Real,
+    step_length: Real,
+    thickness: &mut [Real],
+) {
+    for pair in poses.windows(2) {
+        let (p0, p1) = (&pair[0], &pair[1]);
         let length = (p1.position - p0.position).norm();
         if length <= 0.0 {
             continue;
@@ -111,11 +297,7 @@ pub fn deposit(
             let tau = (s as Real + 0.5) / n as Real;
             let gun = p0.position + (p1.position - p0.position) * tau;
             let axis = (p0.axis * (1.0 - tau) + p1.axis * tau).normalize();
-            // Bounding box of the cone truncated at the axial reach.
-            let tip = gun.coords + axis * reach;
-            let half = axis.map(|c| spread * (1.0 - c * c).max(0.0).sqrt());
-            let lo = gun.coords.inf(&(tip - half));
-            let hi = gun.coords.sup(&(tip + half));
+            let (lo, hi) = cone_box(model, &gun, &axis);
             grid.for_each_in_box(&lo, &hi, |i| {
                 let w = samples.positions[i] - gun;
                 let f = model.rate(&w, &axis, &samples.normals[i]);
@@ -125,5 +307,4 @@ pub fn deposit(
             });
         }
     }
-    Ok(thickness)
 }

@@ -17,14 +17,18 @@ mod samples;
 mod search;
 mod trajectory;
 
-pub use deposition::{deposit, time_sample_count, SprayModel, MAX_AXIAL_RATIO};
+pub use deposition::{
+    deposit, time_sample_count, SprayModel, CHUNK_RADIUS_RATIO, CHUNK_TURN_RAD, MAX_AXIAL_RATIO,
+};
 pub use grid::PointGrid;
 pub use params::{
     QualityLimits, Resolved, SprayError, SprayParams, MAX_PLANES, MAX_SAMPLES, MAX_TIME_SAMPLES,
 };
 pub use plan::{plan_spray, SprayPlan};
 pub use quality::{evaluate_quality, interior_mask, thickness_stats, Quality, ThicknessStats};
-pub use raster::{order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass};
+pub use raster::{
+    order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass, ARC_BINS, MAX_STRETCH,
+};
 pub use samples::{sample_faces, EvaluationSamples};
 pub use search::{search_spacing, Iteration, Limits, SpacingChoice};
 pub use trajectory::{build_trajectory, TrajectoryCounts, ARC_STEP_RAD};

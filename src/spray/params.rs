@@ -142,7 +142,9 @@ pub struct SprayParams {
     pub raster_angle: Real,
     /// Pass continuation past the boundary, gun on (default `R`).
     pub extension: Option<Real>,
-    /// Time step of the deposition, seconds (default: `v·Δt = R/20`).
+    /// Time step of the deposition, seconds (default: `v·Δt = R/20`): bounds the work
+    /// ([`MAX_TIME_SAMPLES`]) and steps the rare pieces moving along their axis; straight
+    /// lateral pieces are integrated by quadrature whatever its value.
     pub time_step: Option<Real>,
     /// Distance between evaluation samples (default `R/8`).
     pub resolution: Option<Real>,

@@ -173,6 +173,7 @@ pub fn plan_spray(
         time_step: resolved.time_step,
     };
     let mut messages = Vec::new();
+    let mut kept: Option<(Real, Evaluation)> = None;
     let (spacing, limits_met, iterations) = match (params.has_limits(), params.quality) {
         (true, Some(q)) => {
             let width = setup.frame.width();
@@ -182,11 +183,20 @@ pub fn plan_spray(
                 max_std_dev: q.max_std_dev,
                 max_error: q.max_error,
             };
+            // Keeps the evaluation of the largest feasible spacing so far: the search
+            // chooses it, so the final plan need not run it again.
             let choice = search_spacing(
                 lo,
                 hi,
                 &limits,
-                &mut |b| setup.evaluate(b).map(|r| r.quality.interior),
+                &mut |b| {
+                    let r = setup.evaluate(b)?;
+                    let stats = r.quality.interior;
+                    if limits.met(&stats) && kept.as_ref().is_none_or(|(k, _)| b > *k) {
+                        kept = Some((b, r));
+                    }
+                    Ok(stats)
+                },
                 &mut |f| progress("spray search", f),
             )?;
             if !choice.met {
@@ -215,7 +225,10 @@ pub fn plan_spray(
         mut thickness,
         mut quality,
         empty_interior,
-    } = setup.evaluate(spacing)?;
+    } = match kept {
+        Some((b, evaluation)) if b == spacing => evaluation,
+        _ => setup.evaluate(spacing)?,
+    };
     let iterations = if iterations.is_empty() {
         vec![Iteration {
             spacing,

@@ -6,12 +6,21 @@
 //! Input:  mesh, face adjacency and geometry; the selected faces; pass direction; spacing.
 //! Output: per plane, the passes (polylines of edge crossings with the face of each segment),
 //!         oriented along the pass direction and ordered along it.
-//! Cost:   O(F + S log S) for F selected faces and S scan segments: each face is bucketed to
-//!         the planes its extent spans, and segments of one plane are chained through the
+//! Cost:   O(F log P + S log S) for F selected faces, P planes and S scan segments: each
+//!         face is bucketed (binary search) to the planes its extent spans, and segments of one plane are chained through the
 //!         face adjacency (no search).
 //! Deviations (no paper for these): the default pass direction is the principal axis of
-//!         the patch in its mean plane (area-weighted vertex covariance); the planes are
-//!         centred on the patch so the outermost ones lie at most `b/2` inside its extremes;
+//!         the patch in its mean plane (area-weighted vertex covariance); `b` is measured
+//!         along the surface across the passes, not in space: a table of the surface
+//!         distance against the plane offset (per bin of [`ARC_BINS`], the mean stretch
+//!         `1/√(1 − (n·across)²)` of the faces spanning it, at most [`MAX_STRETCH`]) places
+//!         the planes, so where the patch is inclined by φ to its mean plane across the
+//!         passes they are `b·cos φ` apart in space and about `b` apart on the surface (the
+//!         patent spaces them `b` in space, which leaves passes `b/cos φ` apart on steep
+//!         parts); the stretch is averaged along each offset, so a patch steep in one place
+//!         and flat in another at the same offset gets the mean; the planes are centred on
+//!         the patch so the outermost ones lie at most `b/2` (along the surface) inside its
+//!         extremes;
 //!         a vertex exactly on a plane counts as above it, so neighbours agree on every
 //!         crossing; zero-length segments (a plane through a vertex) are dropped; a plane
 //!         meeting holes or a concave outline gives several passes.
@@ -31,6 +40,11 @@ const SEGMENT_MIN_RATIO: Real = 1e-12;
 /// Relative slack on `width / spacing` before rounding up the plane count, so rounding noise
 /// in the frame does not add a plane (the outermost margin may then exceed `b/2` by this much).
 const PLANE_COUNT_TOLERANCE: Real = 1e-6;
+/// Bins of the arc-length table across the passes.
+pub const ARC_BINS: usize = 1024;
+/// Largest stretch (surface distance over distance across the planes) a face counts with:
+/// a face almost parallel to the scan planes would otherwise count as infinitely long.
+pub const MAX_STRETCH: Real = 4.0;
 
 const NONE: u32 = u32::MAX;
 
@@ -53,6 +67,9 @@ pub struct PatchFrame {
     pub size: Real,
     /// Total area.
     pub area: Real,
+    /// Surface distance across the passes from `extent.0` at [`ARC_BINS`]` + 1` evenly
+    /// spaced offsets from `extent.0` to `extent.1`.
+    pub arc: Vec<Real>,
 }
 
 /// One pass: crossing points in travel order and the face of each segment between them.
@@ -171,7 +188,9 @@ pub fn patch_frame(
             bmax = bmax.sup(&c.coords);
         }
     }
+    let arc = arc_table(mesh, geometry, &list, &across, (lo, hi));
     Ok(PatchFrame {
+        arc,
         faces: list,
         selected,
         normal,
@@ -183,16 +202,86 @@ pub fn patch_frame(
     })
 }
 
+/// Surface distance across the passes as a function of the offset `across·x`: per bin,
+/// the mean stretch `1/√(1 − (n·across)²)` (the distance along the surface, perpendicular
+/// to the pass, per unit offset) over the faces spanning it, each face spread evenly over
+/// its offset range with weight `area / stretch` (its extent in offset × travel); bins no
+/// face covers count 1. O(F + bins).
+fn arc_table(
+    mesh: &TriMesh,
+    geometry: &FaceGeometry,
+    faces: &[u32],
+    across: &Vector3,
+    (lo, hi): (Real, Real),
+) -> Vec<Real> {
+    let width = hi - lo;
+    let mut weight = vec![0.0; ARC_BINS + 1];
+    let mut stretched = vec![0.0; ARC_BINS + 1];
+    if width > 0.0 {
+        let bin_of = |c: Real| {
+            (((c - lo) / width * ARC_BINS as Real).floor().max(0.0) as usize).min(ARC_BINS - 1)
+        };
+        for &f in faces {
+            let f = f as usize;
+            let m = geometry.normals()[f];
+            let sine = (1.0 - m.dot(across).powi(2)).max(0.0).sqrt();
+            let stretch = (1.0 / sine.max(1.0 / MAX_STRETCH)).min(MAX_STRETCH);
+            let cs = mesh.corners(f).map(|c| across.dot(&c.coords));
+            let (b0, b1) = (
+                bin_of(cs[0].min(cs[1]).min(cs[2])),
+                bin_of(cs[0].max(cs[1]).max(cs[2])),
+            );
+            // Difference arrays: the face adds evenly to bins b0..=b1.
+            let w = geometry.areas()[f] / stretch / (b1 - b0 + 1) as Real;
+            weight[b0] += w;
+            weight[b1 + 1] -= w;
+            stretched[b0] += w * stretch;
+            stretched[b1 + 1] -= w * stretch;
+        }
+    }
+    let step = width / ARC_BINS as Real;
+    let mut arc = Vec::with_capacity(ARC_BINS + 1);
+    arc.push(0.0);
+    let (mut w, mut ws) = (0.0, 0.0);
+    for k in 0..ARC_BINS {
+        w += weight[k];
+        ws += stretched[k];
+        let stretch = if w > 0.0 {
+            (ws / w).clamp(1.0, MAX_STRETCH)
+        } else {
+            1.0
+        };
+        arc.push(arc[k] + step * stretch);
+    }
+    arc
+}
+
 impl PatchFrame {
+    /// Offset `across·x` at surface distance `s` from `extent.0` (inverse of [`Self::arc`]).
+    fn offset_at(&self, s: Real) -> Real {
+        let bins = self.arc.len() - 1;
+        let step = self.width() / bins as Real;
+        let k = self.arc[1..].partition_point(|&a| a < s).min(bins - 1);
+        let span = self.arc[k + 1] - self.arc[k];
+        let t = if span > 0.0 {
+            ((s - self.arc[k]) / span).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        self.extent.0 + (k as Real + t) * step
+    }
+
     /// Width of the patch across the passes.
     pub fn width(&self) -> Real {
         self.extent.1 - self.extent.0
     }
 
-    /// Offsets `across·x = s_k` of the scan planes for `spacing`: `ceil(width / b)` planes
-    /// centred on the patch, so the outermost lie at most `b/2` inside the extremes.
+    /// Offsets `across·x = s_k` of the scan planes for `spacing`, measured along the
+    /// surface across the passes (the arc-length table): `ceil(arc / b)` planes centred
+    /// on the patch, so the outermost lie at most `b/2` (along the surface) inside the
+    /// extremes. On a flat patch this is `ceil(width / b)` planes `b` apart.
     pub fn plane_offsets(&self, spacing: Real) -> Result<Vec<Real>, SprayError> {
-        let width = self.width();
+        let width = self.arc[self.arc.len() - 1];
         if spacing > width * (1.0 + PLANE_COUNT_TOLERANCE) {
             return Err(SprayError::SpacingTooLarge { spacing, width });
         }
@@ -209,7 +298,7 @@ impl PatchFrame {
         let n = planes as usize;
         let margin = 0.5 * (width - (n - 1) as Real * spacing);
         Ok((0..n)
-            .map(|k| self.extent.0 + margin + k as Real * spacing)
+            .map(|k| self.offset_at(margin + k as Real * spacing))
             .collect())
     }
 }
@@ -233,19 +322,16 @@ pub fn scan_passes(
     if n == 0 {
         return Vec::new();
     }
-    let (s0, step) = (
-        offsets[0],
-        if n > 1 { offsets[1] - offsets[0] } else { 1.0 },
-    );
+    // Planes are sorted (not necessarily evenly spaced): the range of planes a face spans
+    // by binary search, one plane of slack each way; the exact sign test decides.
     let plane_range = |f: u32| {
         let d = mesh
             .corners(f as usize)
             .map(|c| frame.across.dot(&c.coords));
         let (lo, hi) = (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]));
-        // One plane of slack each way; the exact sign test decides.
-        let k0 = (((lo - s0) / step).floor() as i64).max(0);
-        let k1 = (((hi - s0) / step).ceil() as i64).min(n as i64 - 1);
-        (k0, k1)
+        let k0 = offsets.partition_point(|&o| o < lo).saturating_sub(1);
+        let k1 = offsets.partition_point(|&o| o <= hi).min(n - 1);
+        (k0 as i64, k1 as i64)
     };
     // Bucket faces by plane (counting sort).
     let mut start = vec![0usize; n + 1];
