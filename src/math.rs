@@ -31,6 +31,23 @@ pub fn cos(x: Real) -> Real {
     libm::cos(x)
 }
 
+/// A unit vector perpendicular to the unit vector `n`: `n × x` normalised, or `n × y` when
+/// `n` is within about 25° of the x axis; `x` itself for a zero or non-finite `n`.
+pub fn any_perpendicular(n: &Vector3) -> Vector3 {
+    let helper = if n.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    let t = n.cross(&helper);
+    let length = t.norm();
+    if length > 0.0 && length.is_finite() {
+        t / length
+    } else {
+        Vector3::x()
+    }
+}
+
 /// A number as messages show it: short enough to read, exact enough to recognise.
 ///
 /// Plain decimals from 1e-4 to 1e15 (`0.35`, `4`), otherwise the shortest round-trip

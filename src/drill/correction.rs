@@ -29,7 +29,7 @@
 //!   (or the deviation along the normal must not matter, as with a pressure foot).
 
 use super::{CoonsPatch, DrillError, MeshIndex};
-use crate::math::{Point3, Real, Vector3};
+use crate::math::{any_perpendicular, Point3, Real, Vector3};
 
 /// A hole is outside the reference quadrilateral when `u` or `w` is beyond `[0, 1]` by more
 /// than this.
@@ -286,16 +286,6 @@ pub fn correct_holes(
         out.outside.push(outside);
     }
     Ok(out)
-}
-
-/// A unit vector perpendicular to the unit `n`.
-fn any_perpendicular(n: &Vector3) -> Vector3 {
-    let helper = if n.x.abs() < 0.9 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    n.cross(&helper).normalize()
 }
 
 fn unit_normals(normals: [Vector3; 4], what: &str) -> Result<[Vector3; 4], DrillError> {

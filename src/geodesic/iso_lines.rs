@@ -11,7 +11,7 @@
 //!         adjacency, so a polyline is closed exactly when it comes back to its first face.
 
 use super::surface::Surface;
-use crate::math::{Point3, Real, Vector3};
+use crate::math::{any_perpendicular, Point3, Real, Vector3};
 
 /// One polyline of a level set (or a pass of the voxel method), with a normal per point.
 #[derive(Clone, Debug, PartialEq)]
@@ -108,21 +108,6 @@ impl IsoLine {
             normals,
             ..self.clone()
         }
-    }
-}
-
-/// A unit vector perpendicular to `n` (for a degenerate travel direction).
-pub(crate) fn any_perpendicular(n: &Vector3) -> Vector3 {
-    let helper = if n.x.abs() < 0.9 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let t = n.cross(&helper);
-    if t.norm() > 0.0 {
-        t.normalize()
-    } else {
-        Vector3::x()
     }
 }
 

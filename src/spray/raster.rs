@@ -26,7 +26,7 @@
 //!         meeting holes or a concave outline gives several passes.
 
 use super::params::{SprayError, MAX_PLANES};
-use crate::math::{Point3, Real, Vector3};
+use crate::math::{any_perpendicular, Point3, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh, NO_FACE};
 
 /// Mean normals shorter than this fraction of the total area (a closed surface) fall back to
@@ -133,12 +133,7 @@ pub fn patch_frame(
         normals[largest]
     };
     // An orthonormal basis (e1, e2) of the mean plane.
-    let helper = if normal.x.abs() < 0.9 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let e1 = normal.cross(&helper).normalize();
+    let e1 = any_perpendicular(&normal);
     let e2 = normal.cross(&e1);
     let mut travel = match direction {
         Some(d) => {

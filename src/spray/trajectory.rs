@@ -18,7 +18,7 @@
 //!         the end segments (gun on); links are straight moves at the standoff (gun off).
 
 use super::raster::ScanPass;
-use crate::math::{angle_between, Point3, Real, Vector3};
+use crate::math::{angle_between, any_perpendicular, Point3, Real, Vector3};
 use crate::toolpath::{Pose, PoseKind, ToolPath};
 
 /// Largest turn of the gun axis between two poses of an arc, radians (5°).
@@ -44,12 +44,7 @@ fn perpendicular(t: Vector3, axis: &Vector3) -> Vector3 {
     if n > 1e-12 {
         p / n
     } else {
-        let helper = if axis.x.abs() < 0.9 {
-            Vector3::x()
-        } else {
-            Vector3::y()
-        };
-        axis.cross(&helper).normalize()
+        any_perpendicular(axis)
     }
 }
 

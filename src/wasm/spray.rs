@@ -1,9 +1,8 @@
 //! `SprayPlan`: the result of `Mesh.planSpray` (JavaScript must call `free()`).
 
 use super::params::ParamReader;
-use super::toolpath::export_options_from_js;
+use super::toolpath::{export_csv, export_json, export_krl, export_rapid};
 use crate::spray::{QualityLimits, SprayParams};
-use crate::toolpath::{to_csv, to_json, to_krl, to_rapid};
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen(typescript_custom_section)]
@@ -210,8 +209,7 @@ impl SprayPlan {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<String, JsError> {
-        let options = export_options_from_js(&opts)?;
-        Ok(to_csv(&self.inner.path, &options)?)
+        export_csv(&self.inner.path, &opts)
     }
 
     /// The trajectory as JSON (positions in mm: give `mmPerUnit` for a file not in mm).
@@ -220,8 +218,7 @@ impl SprayPlan {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<String, JsError> {
-        let options = export_options_from_js(&opts)?;
-        Ok(to_json(&self.inner.path, &options)?)
+        export_json(&self.inner.path, &opts)
     }
 
     /// ABB RAPID modules, one string per file (main module first).
@@ -230,8 +227,7 @@ impl SprayPlan {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<Vec<String>, JsError> {
-        let options = export_options_from_js(&opts)?;
-        Ok(to_rapid(&self.inner.path, &options)?)
+        export_rapid(&self.inner.path, &opts)
     }
 
     /// KUKA KRL `.src` files, one string per file (main program first).
@@ -240,7 +236,6 @@ impl SprayPlan {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<Vec<String>, JsError> {
-        let options = export_options_from_js(&opts)?;
-        Ok(to_krl(&self.inner.path, &options)?)
+        export_krl(&self.inner.path, &opts)
     }
 }

@@ -2,7 +2,7 @@
 //! spray plans, geodesic passes and drilling poses).
 
 use super::params::ParamReader;
-use crate::toolpath::{ExportOptions, LineEnding};
+use crate::toolpath::{ExportOptions, LineEnding, ToolPath};
 use wasm_bindgen::prelude::*;
 
 /// Keys of the JavaScript `ExportOptions`.
@@ -32,6 +32,38 @@ pub(crate) fn export_options_from_js(value: &JsValue) -> Result<ExportOptions, J
         };
     }
     Ok(options)
+}
+
+/// CSV of `path` with JavaScript export options (shared by every class that exports a path).
+pub(crate) fn export_csv(path: &ToolPath, opts: &JsValue) -> Result<String, JsError> {
+    Ok(crate::toolpath::to_csv(
+        path,
+        &export_options_from_js(opts)?,
+    )?)
+}
+
+/// JSON of `path` with JavaScript export options.
+pub(crate) fn export_json(path: &ToolPath, opts: &JsValue) -> Result<String, JsError> {
+    Ok(crate::toolpath::to_json(
+        path,
+        &export_options_from_js(opts)?,
+    )?)
+}
+
+/// ABB RAPID files of `path` (main module first) with JavaScript export options.
+pub(crate) fn export_rapid(path: &ToolPath, opts: &JsValue) -> Result<Vec<String>, JsError> {
+    Ok(crate::toolpath::to_rapid(
+        path,
+        &export_options_from_js(opts)?,
+    )?)
+}
+
+/// KUKA KRL files of `path` (main program first) with JavaScript export options.
+pub(crate) fn export_krl(path: &ToolPath, opts: &JsValue) -> Result<Vec<String>, JsError> {
+    Ok(crate::toolpath::to_krl(
+        path,
+        &export_options_from_js(opts)?,
+    )?)
 }
 
 /// A tool path (geodesic passes): poses with their kind and pass, and the robot exports.
@@ -88,8 +120,7 @@ impl ToolPathHandle {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<String, JsError> {
-        let options = export_options_from_js(&opts)?;
-        Ok(crate::toolpath::to_csv(&self.0, &options)?)
+        export_csv(&self.0, &opts)
     }
 
     /// The path as JSON (positions in mm: give `mmPerUnit` for a file not in mm).
@@ -98,8 +129,7 @@ impl ToolPathHandle {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<String, JsError> {
-        let options = export_options_from_js(&opts)?;
-        Ok(crate::toolpath::to_json(&self.0, &options)?)
+        export_json(&self.0, &opts)
     }
 
     /// ABB RAPID modules, one string per file (main module first).
@@ -108,8 +138,7 @@ impl ToolPathHandle {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<Vec<String>, JsError> {
-        let options = export_options_from_js(&opts)?;
-        Ok(crate::toolpath::to_rapid(&self.0, &options)?)
+        export_rapid(&self.0, &opts)
     }
 
     /// KUKA KRL `.src` files, one string per file (main program first).
@@ -118,7 +147,6 @@ impl ToolPathHandle {
         &self,
         #[wasm_bindgen(unchecked_optional_param_type = "ExportOptions")] opts: JsValue,
     ) -> Result<Vec<String>, JsError> {
-        let options = export_options_from_js(&opts)?;
-        Ok(crate::toolpath::to_krl(&self.0, &options)?)
+        export_krl(&self.0, &opts)
     }
 }
