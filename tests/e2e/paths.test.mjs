@@ -1,0 +1,128 @@
+// The Paths tool in headless Chromium on the paper's cylinder (R 50 mm, length 120 mm, open
+// ends): a section plane z = const as source gives closed rings 10 mm apart up and down the
+// cylinder; the table, the colour map and the RAPID export follow; a bad spacing is refused
+// in the form and a source that misses the surface is reported with the result kept.
+import { after, before, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { join } from 'node:path';
+import { binaryStl, openAppWithSample, outputDir, paintedPixels, saveDownload, waitForModel, waitForReady } from './helpers.mjs';
+
+const R = 50;
+const L = 120;
+
+/** An open cylinder about z, `around` × `along` quads split in two triangles each. */
+function cylinderStl(around, along) {
+  const tris = [];
+  const p = (i, j) => {
+    const u = (2 * Math.PI * (i % around)) / around;
+    return [R * Math.cos(u), R * Math.sin(u), (L * j) / along];
+  };
+  for (let i = 0; i < around; i++) {
+    for (let j = 0; j < along; j++) {
+      tris.push(...p(i, j), ...p(i + 1, j), ...p(i + 1, j + 1), ...p(i, j), ...p(i + 1, j + 1), ...p(i, j + 1));
+    }
+  }
+  return binaryStl(tris, 'cylinder for the paths test');
+}
+
+let app;
+before(async () => {
+  app = await openAppWithSample();
+  const { page } = app;
+  await page.setInputFiles('#file-input', { name: 'cylinder.stl', mimeType: 'model/stl', buffer: cylinderStl(96, 24) });
+  await waitForModel(page, 'cylinder.stl');
+  await page.selectOption('#unit-select', 'mm');
+  await waitForReady(page);
+  await page.click('#tab-paths');
+});
+after(async () => {
+  await app?.close();
+});
+
+const rows = (page) => page.locator('#paths-table tbody tr');
+
+test('a section plane z = 60 gives closed rings 10 mm apart, listed, drawn and coloured', async () => {
+  const { page } = app;
+  await page.check('#paths-form input[name="source"][value="plane"]');
+  await page.check('#paths-form input[name="scope"][value="mesh"]');
+  await page.selectOption('#paths-axis', 'z');
+  await page.check('#paths-form input[name="spacingMode"][value="spacing"]');
+  await page.fill('#paths-spacing', '10');
+  await page.check('#paths-form input[name="method"][value="both"]');
+  await page.fill('#paths-voxelSize', '2');
+  const before = await paintedPixels(page, join(outputDir, 'paths-before.png'));
+  await page.click('#paths-run');
+  await page.waitForFunction(() => document.body.dataset.pathsRuns === '1', null, { timeout: 60_000 });
+  await waitForReady(page);
+  // Plane through the box centre z = 60: rings at 60 ± 10k, k = 1..5 on each side → level k twice.
+  const n = await rows(page).count();
+  assert.equal(n, 10, await page.textContent('#paths-table'));
+  for (let i = 0; i < n; i++) {
+    const cells = await rows(page).nth(i).locator('td').allTextContents();
+    const [level, distance, length, closed] = cells;
+    assert.equal(closed, 'closed');
+    assert.ok(Math.abs(Number(distance) - 10 * Number(level)) < 1e-6, cells.join(' '));
+    // A ring of radius 50 on a 96-gon: its length is within 0.1 % of 2π·50.
+    assert.ok(Math.abs(Number(length) - 2 * Math.PI * R) < 0.5, cells.join(' '));
+  }
+  // Both methods ran: their difference is shown and small against the 2 mm voxels.
+  const diff = page.locator('#paths-diff');
+  assert.equal(await diff.isVisible(), true);
+  const max = Number(await diff.getAttribute('data-max'));
+  const mean = Number(await diff.getAttribute('data-mean'));
+  assert.ok(max > 0 && max < 5, `max ${max}`);
+  assert.ok(mean <= max, `mean ${mean}`);
+  assert.match(await page.textContent('#overlay-paths'), /Geodesic distance from the source, mm/);
+  // The colour map changes the picture: coloured pixels that are not the grey model.
+  const after = await paintedPixels(page, join(outputDir, 'paths-plane.png'));
+  assert.ok(after.painted >= before.painted * 0.8, JSON.stringify({ before, after }));
+  const colourful = await page.evaluate(async () => {
+    const canvas = document.querySelector('#viewer canvas');
+    const bitmap = await createImageBitmap(canvas);
+    const c = new OffscreenCanvas(bitmap.width, bitmap.height);
+    const g = c.getContext('2d');
+    g.drawImage(bitmap, 0, 0);
+    const { data } = g.getImageData(0, 0, bitmap.width, bitmap.height);
+    let count = 0;
+    for (let i = 0; i < data.length; i += 4) {
+      const [r, gr, b] = [data[i], data[i + 1], data[i + 2]];
+      if (Math.max(r, gr, b) - Math.min(r, gr, b) > 60) count++; // saturated: viridis, not grey
+    }
+    return count;
+  });
+  assert.ok(colourful > 1000, `saturated pixels ${colourful}`);
+  await page.screenshot({ path: join(outputDir, 'paths-page.png') });
+  assert.deepEqual(app.consoleErrors, []);
+});
+
+test('the passes export as a RAPID program with MoveL lines', async () => {
+  const { page } = app;
+  const rapid = await saveDownload(page, () => page.click('#results-paths button[data-format="rapid"]'));
+  const text = rapid.name.endsWith('.zip') ? '' : rapid.bytes.toString('utf8');
+  assert.match(rapid.name, /\.mod$/);
+  assert.match(text, /MODULE \w+/);
+  assert.ok((text.match(/MoveL /g) ?? []).length >= 10 * 20, 'many moves along ten rings');
+  const csv = await saveDownload(page, () => page.click('#results-paths button[data-format="csv"]'));
+  assert.match(csv.name, /\.csv$/);
+  assert.ok(csv.bytes.toString('utf8').trim().split('\n').length > 100);
+});
+
+test('spacing 0 is refused in the form; an engine error is reported and the result kept', async () => {
+  const { page } = app;
+  await page.fill('#paths-spacing', '0');
+  assert.match(await page.textContent('#paths-error'), /pass spacing must be above 0/);
+  assert.equal(await page.isDisabled('#paths-run'), true);
+  await page.fill('#paths-spacing', '10');
+  assert.equal(await page.isDisabled('#paths-run'), false);
+  // Voxels of 1 µm over a 100 × 100 × 120 mm box: far too many, refused by the engine.
+  await page.check('#paths-form input[name="method"][value="voxel"]');
+  await page.fill('#paths-voxelSize', '0.001');
+  await page.click('#paths-run');
+  await page.waitForFunction(() => document.getElementById('alert').textContent.length > 0, null, { timeout: 60_000 });
+  await waitForReady(page);
+  const alert = await page.textContent('#alert');
+  assert.match(alert, /The paths could not be computed: .*voxel.*The result on screen is unchanged\./s);
+  assert.equal(await rows(page).count(), 10, 'the previous table stays');
+  assert.equal(await page.isDisabled('#results-paths button[data-format="rapid"]'), false);
+  assert.equal(await page.evaluate(() => document.body.dataset.pathsRuns), '1');
+});
