@@ -39,6 +39,23 @@ after(async () => {
   await app?.close();
 });
 
+/** Canvas pixels near viridis' dark end #440154 (no patch colour comes near it). */
+async function purplePixels(page) {
+  const png = await page.locator('#viewer canvas').screenshot();
+  return page.evaluate(async (bytes) => {
+    const bitmap = await createImageBitmap(new Blob([new Uint8Array(bytes)], { type: 'image/png' }));
+    const c = new OffscreenCanvas(bitmap.width, bitmap.height);
+    const g = c.getContext('2d');
+    g.drawImage(bitmap, 0, 0);
+    const { data } = g.getImageData(0, 0, bitmap.width, bitmap.height);
+    let count = 0;
+    for (let i = 0; i < data.length; i += 4) {
+      if (Math.abs(data[i] - 0x44) + Math.abs(data[i + 1] - 0x01) + Math.abs(data[i + 2] - 0x54) < 60) count++;
+    }
+    return count;
+  }, [...png]);
+}
+
 const rows = (page) => page.locator('#paths-table tbody tr');
 
 test('a section plane z = 60 gives closed rings 10 mm apart, listed, drawn and coloured', async () => {
@@ -51,12 +68,16 @@ test('a section plane z = 60 gives closed rings 10 mm apart, listed, drawn and c
   await page.check('#paths-form input[name="method"][value="both"]');
   await page.fill('#paths-voxelSize', '2');
   const before = await paintedPixels(page, join(outputDir, 'paths-before.png'));
+  const purpleBefore = await purplePixels(page);
   await page.click('#paths-run');
   await page.waitForFunction(() => document.body.dataset.pathsRuns === '1', null, { timeout: 60_000 });
   await waitForReady(page);
-  // Plane through the box centre z = 60: rings at 60 ± 10k, k = 1..5 on each side → level k twice.
+  // Plane through the box centre z = 60: rings at 60 ± 10k, k = 1..6 on each side (level 6
+  // is the rim itself) → each level twice.
   const n = await rows(page).count();
-  assert.equal(n, 10, await page.textContent('#paths-table'));
+  assert.equal(n, 12, await page.textContent('#paths-table'));
+  const levels = await rows(page).evaluateAll((trs) => trs.map((tr) => Number(tr.dataset.level)).sort((a, b) => a - b));
+  assert.deepEqual(levels, [1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6]);
   for (let i = 0; i < n; i++) {
     const cells = await rows(page).nth(i).locator('td').allTextContents();
     const [level, distance, length, closed] = cells;
@@ -76,21 +97,8 @@ test('a section plane z = 60 gives closed rings 10 mm apart, listed, drawn and c
   // The colour map changes the picture: coloured pixels that are not the grey model.
   const after = await paintedPixels(page, join(outputDir, 'paths-plane.png'));
   assert.ok(after.painted >= before.painted * 0.8, JSON.stringify({ before, after }));
-  const colourful = await page.evaluate(async () => {
-    const canvas = document.querySelector('#viewer canvas');
-    const bitmap = await createImageBitmap(canvas);
-    const c = new OffscreenCanvas(bitmap.width, bitmap.height);
-    const g = c.getContext('2d');
-    g.drawImage(bitmap, 0, 0);
-    const { data } = g.getImageData(0, 0, bitmap.width, bitmap.height);
-    let count = 0;
-    for (let i = 0; i < data.length; i += 4) {
-      const [r, gr, b] = [data[i], data[i + 1], data[i + 2]];
-      if (Math.max(r, gr, b) - Math.min(r, gr, b) > 60) count++; // saturated: viridis, not grey
-    }
-    return count;
-  });
-  assert.ok(colourful > 1000, `saturated pixels ${colourful}`);
+  const darkPurple = await purplePixels(page);
+  assert.ok(darkPurple > purpleBefore + 1000, `viridis' dark end near the source: ${purpleBefore} → ${darkPurple} pixels`);
   await page.screenshot({ path: join(outputDir, 'paths-page.png') });
   assert.deepEqual(app.consoleErrors, []);
 });
@@ -101,7 +109,7 @@ test('the passes export as a RAPID program with MoveL lines', async () => {
   const text = rapid.name.endsWith('.zip') ? '' : rapid.bytes.toString('utf8');
   assert.match(rapid.name, /\.mod$/);
   assert.match(text, /MODULE \w+/);
-  assert.ok((text.match(/MoveL /g) ?? []).length >= 10 * 20, 'many moves along ten rings');
+  assert.ok((text.match(/MoveL /g) ?? []).length >= 10 * 20, 'many moves along twelve rings');
   const csv = await saveDownload(page, () => page.click('#results-paths button[data-format="csv"]'));
   assert.match(csv.name, /\.csv$/);
   assert.ok(csv.bytes.toString('utf8').trim().split('\n').length > 100);
@@ -122,7 +130,7 @@ test('spacing 0 is refused in the form; an engine error is reported and the resu
   await waitForReady(page);
   const alert = await page.textContent('#alert');
   assert.match(alert, /The paths could not be computed: .*voxel.*The result on screen is unchanged\./s);
-  assert.equal(await rows(page).count(), 10, 'the previous table stays');
+  assert.equal(await rows(page).count(), 12, 'the previous table stays');
   assert.equal(await page.isDisabled('#results-paths button[data-format="rapid"]'), false);
   assert.equal(await page.evaluate(() => document.body.dataset.pathsRuns), '1');
 });
