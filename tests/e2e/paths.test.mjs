@@ -134,3 +134,24 @@ test('spacing 0 is refused in the form; an engine error is reported and the resu
   assert.equal(await page.isDisabled('#results-paths button[data-format="rapid"]'), false);
   assert.equal(await page.evaluate(() => document.body.dataset.pathsRuns), '1');
 });
+
+test('the boundary loops of the cylinder give rings from both rims, bead width × overlap spacing', async () => {
+  const { page } = app;
+  await page.check('#paths-form input[name="method"][value="mesh"]');
+  await page.check('#paths-form input[name="source"][value="boundary"]');
+  await page.check('#paths-form input[name="spacingMode"][value="bead"]');
+  await page.fill('#paths-beadWidth', '6.4');
+  await page.fill('#paths-overlap', '0.738');
+  assert.match(await page.textContent('#paths-spacing-hint'), /4\.723 mm apart/);
+  await page.click('#paths-run');
+  await page.waitForFunction(() => document.body.dataset.pathsRuns === '2', null, { timeout: 60_000 });
+  await waitForReady(page);
+  // Distance to the nearer rim reaches 60 mm at mid-length: levels 1..12 (12 · 4.7232 = 56.7),
+  // two rings each.
+  const levels = await rows(page).evaluateAll((trs) => trs.map((tr) => Number(tr.dataset.level)).sort((a, b) => a - b));
+  assert.deepEqual(levels, Array.from({ length: 24 }, (_, i) => 1 + Math.floor(i / 2)));
+  const distances = await rows(page).evaluateAll((trs) => trs.map((tr) => Number(tr.children[1].textContent)));
+  for (const [i, d] of distances.entries()) assert.ok(d > 0 && d < 60, `row ${i}: ${d}`);
+  assert.equal(await page.locator('#paths-diff').isVisible(), false, 'a new source: no comparison yet');
+  assert.deepEqual(app.consoleErrors, []);
+});
