@@ -155,3 +155,28 @@ test('the boundary loops of the cylinder give rings from both rims, bead width Ã
   assert.equal(await page.locator('#paths-diff').isVisible(), false, 'a new source: no comparison yet');
   assert.deepEqual(app.consoleErrors, []);
 });
+
+test('clicked points on the surface become the source', async () => {
+  const { page } = app;
+  await page.check('#paths-form input[name="source"][value="points"]');
+  assert.equal(await page.isDisabled('#paths-run'), true, 'no points yet');
+  await page.check('#paths-form input[name="spacingMode"][value="spacing"]');
+  await page.fill('#paths-spacing', '10');
+  const box = await page.locator('#viewer canvas').boundingBox();
+  for (const dx of [-60, 0, 60]) {
+    await page.mouse.click(box.x + box.width / 2 + dx, box.y + box.height / 2 - 150);
+  }
+  assert.match(await page.textContent('#paths-points'), /^3 points clicked/);
+  await page.click('#paths-undo-point');
+  assert.match(await page.textContent('#paths-points'), /^2 points clicked/);
+  await page.click('#paths-run');
+  await page.waitForFunction(() => document.body.dataset.pathsRuns === '3', null, { timeout: 60_000 });
+  await waitForReady(page);
+  assert.match(await page.textContent('#paths-summary'), /^2 clicked points on the whole mesh/);
+  const n = await rows(page).count();
+  assert.ok(n >= 3, `${n} passes`);
+  const distances = await rows(page).evaluateAll((trs) => trs.map((tr) => Number(tr.children[1].textContent)));
+  for (const d of distances) assert.ok(Math.abs(d / 10 - Math.round(d / 10)) < 1e-6, `distance ${d} is a multiple of the spacing`);
+  await page.screenshot({ path: join(outputDir, 'paths-points.png') });
+  assert.deepEqual(app.consoleErrors, []);
+});

@@ -23,7 +23,7 @@ const FIELDS = [
   { key: 'maxLevel', label: 'Most passes', unit: '', value: 200, min: 0, group: 'passes', integer: true, title: 'Passes beyond this level are left out' },
 ];
 const CHOICES = {
-  source: ['plane', 'boundary'],
+  source: ['plane', 'boundary', 'points'],
   axis: ['x', 'y', 'z', 'view'],
   scope: ['mesh', 'patch'],
   spacingMode: ['spacing', 'bead'],
@@ -34,6 +34,7 @@ const DEFAULTS = Object.freeze(Object.fromEntries([
   ...FIELDS.map((f) => [P + f.key, f.value]),
   ...Object.entries(CHOICES).map(([k, v]) => [P + k, v[0]]),
   [`${P}showMap`, true],
+  [`${P}closedLoop`, false],
   [`${P}showPaths`, true],
 ]));
 /** Passes cycle through these (Okabe & Ito, black first) so that neighbouring levels differ. */
@@ -70,6 +71,13 @@ const PANEL = `
         <p class="hint" id="paths-point">Point: the model's centre. Click the surface to choose one.</p>
       </div>
       ${radio('source', 'boundary', 'the boundary loops')}
+      ${radio('source', 'points', 'clicked points, joined along the surface')}
+      <div class="indent">
+        <p class="hint" id="paths-points">No points yet: click the surface.</p>
+        <label class="check"><input type="checkbox" id="paths-closedLoop" name="closedLoop"> Close the loop</label>
+        <button type="button" id="paths-undo-point">Remove the last point</button>
+        <button type="button" id="paths-clear-points">Clear</button>
+      </div>
     </fieldset>
     <fieldset>
       <legend>On</legend>
@@ -142,6 +150,7 @@ class PathsTool {
   #results;
   #overlay;
   #point = null; // clicked plane point, file units (null: the model's centre)
+  #points = []; // clicked polyline points, file units
   #result = null; // { out, request, model, unit } on screen
   #runs = null; // { key, mesh?, voxel? } vertex distances per method for one source
   #listening = false;
@@ -156,6 +165,7 @@ class PathsTool {
     this.#form = panel.querySelector('#paths-form');
     this.#wire();
     this.#renderForm();
+    this.#renderPoints();
   }
 
   get #s() {
@@ -174,6 +184,7 @@ class PathsTool {
     $('paths-order').value = s[`${P}order`];
     $('paths-showMap').checked = s[`${P}showMap`];
     $('paths-showPaths').checked = s[`${P}showPaths`];
+    $('paths-closedLoop').checked = s[`${P}closedLoop`];
     this.#validate();
   }
 
@@ -186,6 +197,7 @@ class PathsTool {
     values.order = $('paths-order').value;
     values.showMap = $('paths-showMap').checked;
     values.showPaths = $('paths-showPaths').checked;
+    values.closedLoop = $('paths-closedLoop').checked;
     for (const f of FIELDS) {
       const el = $(`paths-${f.key}`);
       const text = el.value.trim();
@@ -210,8 +222,10 @@ class PathsTool {
     const r = this.#read();
     const v = r.values;
     const noPatch = v.scope === 'patch' && this.#shell.state.selected === null;
-    $('paths-error').textContent = r.error ?? (noPatch ? 'Select a patch (click it in the view or the list), or use the whole mesh.' : '');
-    $('paths-run').disabled = Boolean(r.error) || noPatch || !this.#shell.state.model;
+    const noPoints = v.source === 'points' && this.#points.length === 0;
+    $('paths-error').textContent = r.error ?? (noPatch ? 'Select a patch (click it in the view or the list), or use the whole mesh.'
+      : noPoints ? 'Click at least one point on the surface.' : '');
+    $('paths-run').disabled = Boolean(r.error) || noPatch || noPoints || !this.#shell.state.model;
     $('paths-spacing-hint').textContent = Number.isFinite(v.spacingMm) && v.spacingMode === 'bead'
       ? `Passes ${num(v.spacingMm, 4)} mm apart.` : '';
     const sel = this.#shell.state.selected;
@@ -236,13 +250,51 @@ class PathsTool {
       : 'Point: the model\'s centre. Click the surface to choose one.';
   }
 
+  #renderPoints() {
+    const el = $('paths-points');
+    if (!el) return;
+    const n = this.#points.length;
+    el.textContent = n ? `${n} point${n === 1 ? '' : 's'} clicked. Click the surface to add more.` : 'No points yet: click the surface.';
+    $('paths-undo-point').disabled = n === 0;
+    $('paths-clear-points').disabled = n === 0;
+    this.#drawMarks();
+  }
+
+  /** Small crosses at the plane point and the clicked points, the points joined by straight lines. */
+  #drawMarks() {
+    const viewer = this.#shell.viewer;
+    if (!viewer) return;
+    const v = this.#read().values;
+    const size = Math.max((v.spacingMm || 10) / this.#shell.mmPerUnit / 3, 1e-9);
+    const pos = [];
+    const cross = (p) => {
+      for (let k = 0; k < 3; k++) {
+        const a = [...p];
+        const b = [...p];
+        a[k] -= size;
+        b[k] += size;
+        pos.push(...a, ...b);
+      }
+    };
+    if (v.source === 'plane' && this.#point) cross(this.#point);
+    if (v.source === 'points') {
+      this.#points.forEach(cross);
+      for (let i = 1; i < this.#points.length; i++) pos.push(...this.#points[i - 1], ...this.#points[i]);
+    }
+    if (pos.length === 0) viewer.removeLayer('paths.marks');
+    else viewer.setLayer('paths.marks', { kind: 'lines', positions: Float32Array.from(pos), color: SOURCE_COLOR });
+    viewer.setLayerVisible('paths.marks', this.#shell.activeTool === this);
+  }
+
   // ---------------------------------------------------------------- shell hooks
 
   onModelLoaded() {
     this.#point = null;
+    this.#points = [];
     this.#runs = null;
     this.#clear();
     this.#renderPoint();
+    this.#renderPoints();
     this.#validate();
   }
 
@@ -269,16 +321,25 @@ class PathsTool {
       this.#listening = true;
       viewer.addEventListener('pick', (event) => {
         if (this.#shell.activeTool !== this || !event.detail.point) return;
-        this.#point = event.detail.point;
-        this.#renderPoint();
+        if (this.#read().values.source === 'points') {
+          this.#points.push(event.detail.point);
+          this.#renderPoints();
+          this.#validate();
+        } else {
+          this.#point = event.detail.point;
+          this.#renderPoint();
+          this.#drawMarks();
+        }
       });
     }
     this.#showLayers(true);
+    this.#drawMarks();
     this.#validate();
   }
 
   onDeactivate() {
     this.#showLayers(false);
+    this.#shell.viewer?.setLayerVisible('paths.marks', false);
   }
 
   // ---------------------------------------------------------------- computing
@@ -294,6 +355,8 @@ class PathsTool {
     if (v.source === 'plane') {
       const normal = v.axis === 'view' ? shell.viewer.viewDirectionInModel() : { x: [1, 0, 0], y: [0, 1, 0], z: [0, 0, 1] }[v.axis];
       source = { kind: 'plane', point: this.#point, normal };
+    } else if (v.source === 'points') {
+      source = { kind: 'points', points: this.#points.flat(), closed: v.closedLoop && this.#points.length > 2 };
     } else {
       source = { kind: 'boundary' };
     }
@@ -328,7 +391,7 @@ class PathsTool {
       progress('Drawing', null);
       if (out.memoryBytes) shell.showMemory(out.memoryBytes);
       // The source as the engine saw it (the plane's point filled in), for the comparison.
-      const key = JSON.stringify([shell.state.model.name, message.source.kind, out.point, message.source.normal, message.patchId]);
+      const key = JSON.stringify([shell.state.model.name, { ...message.source, point: out.point }, message.patchId]);
       if (this.#runs?.key !== key) this.#runs = { key };
       for (const run of out.runs) this.#runs[run.method] = run.vertexDistance;
       this.#result = { out, request, model: shell.state.model.name };
@@ -424,7 +487,7 @@ class PathsTool {
     const total = run.table.reduce((a, p) => a + p.length, 0);
     const what = request.source.kind === 'plane'
       ? `Section plane (normal ${request.values.axis === 'view' ? 'along the view' : request.values.axis.toUpperCase()})`
-      : 'Boundary loops';
+      : request.source.kind === 'points' ? `${request.source.points.length / 3} clicked points` : 'Boundary loops';
     $('paths-summary').textContent = `${what} on ${request.patchId === null ? 'the whole mesh' : `patch ${request.patchId}`}, ` +
       `${run.method} method: ${integer.format(run.table.length)} passes (${closed} closed, ${run.table.length - closed} open) ` +
       `${num(request.spacing * mm, 4)} mm apart, ${num(total * mm / 1000, 4)} m of path; farthest point ${num(run.maxDistance * mm, 4)} mm.` +
@@ -552,7 +615,20 @@ class PathsTool {
       const r = this.#validate();
       if (!r.error) this.#save();
     });
-    this.#form.addEventListener('change', () => this.#validate());
+    this.#form.addEventListener('change', () => {
+      this.#validate();
+      this.#drawMarks();
+    });
+    $('paths-undo-point').addEventListener('click', () => {
+      this.#points.pop();
+      this.#renderPoints();
+      this.#validate();
+    });
+    $('paths-clear-points').addEventListener('click', () => {
+      this.#points = [];
+      this.#renderPoints();
+      this.#validate();
+    });
     this.#results.addEventListener('change', () => {
       this.#save();
       if (!this.#result) return;

@@ -63,7 +63,8 @@ function boxCentre(ctx) {
 
 export const ops = {
   /**
-   * { source: { kind: 'plane', point|null, normal } | { kind: 'boundary', loop? }, patchId|null,
+   * { source: { kind: 'plane', point|null, normal } | { kind: 'boundary', loop? }
+   *   | { kind: 'points', points (flat xyz), closed }, patchId|null,
    *   methods: ['mesh'|'voxel', …], voxelSize, spacing, pathOptions } → per method the vertex
    * distances, and for the first method its paths and a trace of the source. The first
    * method's field stays here for the exports.
@@ -76,6 +77,7 @@ export const ops = {
     }
     let src;
     if (source.kind === 'plane') src = { plane: { point: source.point ?? boxCentre(ctx), normal: source.normal } };
+    else if (source.kind === 'points') src = { polyline: Float64Array.from(source.points), closed: source.closed };
     else src = { boundaryOf: patchId === null || patchId === undefined ? 'mesh' : patchId, ...(source.loop !== undefined ? { loop: source.loop } : {}) };
     const out = { runs: [], point: src.plane?.point ?? null };
     const transfer = [];
