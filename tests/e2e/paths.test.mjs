@@ -153,6 +153,11 @@ test('the boundary loops of the cylinder give rings from both rims, bead width �
   const distances = await rows(page).evaluateAll((trs) => trs.map((tr) => Number(tr.children[1].textContent)));
   for (const [i, d] of distances.entries()) assert.ok(d > 0 && d < 60, `row ${i}: ${d}`);
   assert.equal(await page.locator('#paths-diff').isVisible(), false, 'a new source: no comparison yet');
+  // The settings persist (URL hash, like the other tools).
+  const hash = new URLSearchParams((await page.evaluate(() => location.hash)).slice(1));
+  assert.equal(hash.get('paths.spacingMode'), 'bead');
+  assert.equal(hash.get('paths.source'), 'boundary');
+  assert.equal(hash.get('paths.overlap'), '0.738');
   assert.deepEqual(app.consoleErrors, []);
 });
 
@@ -178,5 +183,26 @@ test('clicked points on the surface become the source', async () => {
   const distances = await rows(page).evaluateAll((trs) => trs.map((tr) => Number(tr.children[1].textContent)));
   for (const d of distances) assert.ok(Math.abs(d / 10 - Math.round(d / 10)) < 1e-6, `distance ${d} is a multiple of the spacing`);
   await page.screenshot({ path: join(outputDir, 'paths-points.png') });
+  assert.deepEqual(app.consoleErrors, []);
+});
+
+test('a plane normal to the view (top view: Y) through the centre: open passes from one generator', async () => {
+  const { page } = app;
+  await page.click('button[data-view="top"]');
+  await page.check('#paths-form input[name="source"][value="plane"]');
+  await page.selectOption('#paths-axis', 'view');
+  await page.click('#paths-run');
+  await page.waitForFunction(() => document.body.dataset.pathsRuns === '4', null, { timeout: 60_000 });
+  await waitForReady(page);
+  const summary = await page.textContent('#paths-summary');
+  assert.match(summary, /^Section plane \(normal along the view\)/);
+  // The section y = 0 is the generators x = ±50; the source is the piece nearest the point
+  // (one generator), the farthest points are the opposite generator (π·50 = 157.1 mm away):
+  // levels 1..15, one open pass on each side of the source, each ending at the rims.
+  const cells = await rows(page).evaluateAll((trs) => trs.map((tr) => [Number(tr.dataset.level), tr.dataset.closed]));
+  assert.deepEqual(cells.map((c) => c[0]).sort((a, b) => a - b), Array.from({ length: 30 }, (_, i) => 1 + Math.floor(i / 2)));
+  assert.ok(cells.every((c) => c[1] === 'false'), JSON.stringify(cells));
+  const far = Number(summary.match(/farthest point ([\d.]+) mm/)[1]);
+  assert.ok(Math.abs(far - Math.PI * R) < 0.5, `farthest ${far}`);
   assert.deepEqual(app.consoleErrors, []);
 });

@@ -40,6 +40,8 @@ const DEFAULTS = Object.freeze(Object.fromEntries([
 /** Passes cycle through these (Okabe & Ito, black first) so that neighbouring levels differ. */
 const LEVEL_COLORS = ['#1d232a', '#E69F00', '#56B4E9', '#CC79A7', '#0072B2', '#D55E00'];
 const SOURCE_COLOR = '#ff2a2a';
+/** The cross where the mesh and voxel distances differ most. */
+const DIFF_COLOR = '#ffffff';
 const UNREACHED = [160, 164, 168];
 /** Rows of the pass table at most (the exports carry all of them). */
 const MAX_ROWS = 300;
@@ -68,7 +70,7 @@ const PANEL = `
       <div class="indent">
         <label class="check">Plane normal <select id="paths-axis" name="axis">
           <option value="x">X</option><option value="y">Y</option><option value="z">Z</option><option value="view">view direction</option></select></label>
-        <p class="hint" id="paths-point">Point: the model's centre. Click the surface to choose one.</p>
+        <p class="hint" id="paths-point">Point: the model's centre. Click the surface to choose one. The piece of the section nearest the point is the source.</p>
       </div>
       ${radio('source', 'boundary', 'the boundary loops')}
       ${radio('source', 'points', 'clicked points, joined along the surface')}
@@ -246,8 +248,8 @@ class PathsTool {
     if (!el) return;
     const u = this.#shell.unitOf.length();
     el.textContent = this.#point
-      ? `Point: (${this.#point.map((x) => num(x, 4)).join(', ')}) ${u}. Click the surface to move it.`
-      : 'Point: the model\'s centre. Click the surface to choose one.';
+      ? `Point: (${this.#point.map((x) => num(x, 4)).join(', ')}) ${u}. Click the surface to move it. The piece of the section nearest the point is the source.`
+      : 'Point: the model\'s centre. Click the surface to choose one. The piece of the section nearest the point is the source.';
   }
 
   #renderPoints() {
@@ -406,7 +408,7 @@ class PathsTool {
 
   #clear(message) {
     this.#result = null;
-    for (const layer of ['map', 'closed', 'open', 'source']) this.#shell.viewer?.removeLayer(`paths.${layer}`);
+    for (const layer of ['map', 'closed', 'open', 'source', 'diffmark']) this.#shell.viewer?.removeLayer(`paths.${layer}`);
     if (!this.#results) return;
     $('paths-figures').hidden = true;
     $('paths-summary').textContent = message ?? 'No paths yet: choose a source and press Compute paths.';
@@ -474,6 +476,7 @@ class PathsTool {
     const v = this.#read().values;
     viewer.setLayerVisible('paths.map', visible && v.showMap);
     for (const id of ['closed', 'open', 'source']) viewer.setLayerVisible(`paths.${id}`, visible && v.showPaths);
+    viewer.setLayerVisible('paths.diffmark', visible);
   }
 
   // ---------------------------------------------------------------- figures
@@ -512,6 +515,7 @@ class PathsTool {
   #renderDiff() {
     const el = $('paths-diff');
     const runs = this.#runs;
+    this.#shell.viewer?.removeLayer('paths.diffmark');
     if (!runs?.mesh || !runs?.voxel || runs.mesh.length !== runs.voxel.length) {
       el.hidden = true;
       return;
@@ -537,9 +541,24 @@ class PathsTool {
     el.hidden = false;
     el.dataset.max = String(max * mm);
     el.dataset.mean = String(n ? (sum / n) * mm : 0);
+    if (at >= 0) {
+      // A ring of three crosses where the methods differ most, sized by the difference.
+      const r = Math.max(max, this.#result.request.spacing / 2);
+      const c = [P[3 * at], P[3 * at + 1], P[3 * at + 2]];
+      const pos = [];
+      for (let k = 0; k < 3; k++) {
+        const a = [...c];
+        const b = [...c];
+        a[k] -= r;
+        b[k] += r;
+        pos.push(...a, ...b);
+      }
+      this.#shell.viewer.setLayer('paths.diffmark', { kind: 'lines', positions: Float32Array.from(pos), color: DIFF_COLOR });
+      this.#shell.viewer.setLayerVisible('paths.diffmark', this.#shell.activeTool === this);
+    }
     const where = at >= 0 ? ` at (${[0, 1, 2].map((k) => num(P[3 * at + k], 4)).join(', ')}) ${this.#shell.unitOf.length()}` : '';
     el.textContent = `Mesh vs voxel method on this source: largest difference ${num(max * mm, 4)} mm${where}, ` +
-      `mean ${num(n ? (sum / n) * mm : 0, 4)} mm over ${integer.format(n)} vertices (the voxel distance read at the nearest voxel).`;
+      `mean ${num(n ? (sum / n) * mm : 0, 4)} mm over ${integer.format(n)} vertices (the voxel distance read at the nearest voxel; white cross in the view).`;
   }
 
   #renderLegend() {
