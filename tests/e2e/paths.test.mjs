@@ -206,3 +206,18 @@ test('a plane normal to the view (top view: Y) through the centre: open passes f
   assert.ok(Math.abs(far - Math.PI * R) < 0.5, `farthest ${far}`);
   assert.deepEqual(app.consoleErrors, []);
 });
+
+test('one boundary loop of the cylinder: rings from one rim only', async () => {
+  const { page } = app;
+  await page.check('#paths-form input[name="source"][value="boundary"]');
+  await page.selectOption('#paths-loop', '0');
+  await page.click('#paths-run');
+  await page.waitForFunction(() => document.body.dataset.pathsRuns === '5', null, { timeout: 60_000 });
+  await waitForReady(page);
+  assert.match(await page.textContent('#paths-summary'), /^Boundary loop 1 \(by length\)/);
+  // From one rim the farthest point is the other rim, 120 mm away: rings at 10k, k = 1..12.
+  const cells = await rows(page).evaluateAll((trs) => trs.map((tr) => [Number(tr.dataset.level), tr.dataset.closed]));
+  assert.deepEqual(cells, Array.from({ length: 12 }, (_, i) => [i + 1, 'true']));
+  await page.selectOption('#paths-loop', 'all');
+  assert.deepEqual(app.consoleErrors, []);
+});

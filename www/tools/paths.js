@@ -29,6 +29,7 @@ const CHOICES = {
   spacingMode: ['spacing', 'bead'],
   method: ['mesh', 'voxel', 'both'],
   order: ['zigzag', 'oneWay'],
+  loop: ['all', '0', '1', '2', '3'],
 };
 const DEFAULTS = Object.freeze(Object.fromEntries([
   ...FIELDS.map((f) => [P + f.key, f.value]),
@@ -72,7 +73,12 @@ const PANEL = `
           <option value="x">X</option><option value="y">Y</option><option value="z">Z</option><option value="view">view direction</option></select></label>
         <p class="hint" id="paths-point">Point: the model's centre. Click the surface to choose one. The piece of the section nearest the point is the source.</p>
       </div>
-      ${radio('source', 'boundary', 'the boundary loops')}
+      ${radio('source', 'boundary', 'the boundary')}
+      <div class="indent">
+        <label class="check">Loop <select id="paths-loop" name="loop">
+          <option value="all">every loop</option><option value="0">the longest</option><option value="1">the 2nd longest</option>
+          <option value="2">the 3rd longest</option><option value="3">the 4th longest</option></select></label>
+      </div>
       ${radio('source', 'points', 'clicked points, joined along the surface')}
       <div class="indent">
         <p class="hint" id="paths-points">No points yet: click the surface.</p>
@@ -184,6 +190,7 @@ class PathsTool {
     }
     $('paths-axis').value = s[`${P}axis`];
     $('paths-order').value = s[`${P}order`];
+    $('paths-loop').value = s[`${P}loop`];
     $('paths-showMap').checked = s[`${P}showMap`];
     $('paths-showPaths').checked = s[`${P}showPaths`];
     $('paths-closedLoop').checked = s[`${P}closedLoop`];
@@ -197,6 +204,7 @@ class PathsTool {
     for (const name of ['source', 'scope', 'spacingMode', 'method']) values[name] = this.#form.elements[name].value || CHOICES[name][0];
     values.axis = $('paths-axis').value;
     values.order = $('paths-order').value;
+    values.loop = $('paths-loop').value;
     values.showMap = $('paths-showMap').checked;
     values.showPaths = $('paths-showPaths').checked;
     values.closedLoop = $('paths-closedLoop').checked;
@@ -360,7 +368,7 @@ class PathsTool {
     } else if (v.source === 'points') {
       source = { kind: 'points', points: this.#points.flat(), closed: v.closedLoop && this.#points.length > 2 };
     } else {
-      source = { kind: 'boundary' };
+      source = { kind: 'boundary', ...(v.loop !== 'all' ? { loop: Number(v.loop) } : {}) };
     }
     const methods = v.method === 'both' ? ['mesh', 'voxel'] : [v.method];
     return {
@@ -490,7 +498,8 @@ class PathsTool {
     const total = run.table.reduce((a, p) => a + p.length, 0);
     const what = request.source.kind === 'plane'
       ? `Section plane (normal ${request.values.axis === 'view' ? 'along the view' : request.values.axis.toUpperCase()})`
-      : request.source.kind === 'points' ? `${request.source.points.length / 3} clicked points` : 'Boundary loops';
+      : request.source.kind === 'points' ? `${request.source.points.length / 3} clicked points`
+        : request.source.loop === undefined ? 'Boundary loops' : `Boundary loop ${request.source.loop + 1} (by length)`;
     $('paths-summary').textContent = `${what} on ${request.patchId === null ? 'the whole mesh' : `patch ${request.patchId}`}, ` +
       `${run.method} method: ${integer.format(run.table.length)} passes (${closed} closed, ${run.table.length - closed} open) ` +
       `${num(request.spacing * mm, 4)} mm apart, ${num(total * mm / 1000, 4)} m of path; farthest point ${num(run.maxDistance * mm, 4)} mm.` +
