@@ -6,8 +6,10 @@ import { shell } from './app/shell.js';
 import { segmentTool } from './tools/segment.js';
 import { sprayTool } from './tools/spray.js';
 import { drillTool } from './tools/drill.js';
+import { pathsTool } from './tools/paths.js';
 
 shell.addTool(segmentTool);
 shell.addTool(sprayTool);
 shell.addTool(drillTool);
+shell.addTool(pathsTool);
 shell.start();

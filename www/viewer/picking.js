@@ -50,7 +50,8 @@ export class PatchPicker {
 
   /**
    * Nearest hit along the raycaster's ray on a visible bucket of `object`:
-   * { patchId } (-1 = dropped triangle) or null when nothing visible is hit.
+   * { patchId, point } (-1 = dropped triangle; point [x, y, z] in the model's own
+   * coordinates) or null when nothing visible is hit.
    */
   pick(raycaster, object, isVisible) {
     if (!this.#position) return null;
@@ -61,7 +62,7 @@ export class PatchPicker {
     hits.sort((a, b) => a.distance - b.distance);
     for (const hit of hits) {
       const patchId = this.patchOfTriangle(hit.faceIndex);
-      if (isVisible(patchId)) return { patchId };
+      if (isVisible(patchId)) return { patchId, point: [hit.point.x, hit.point.y, hit.point.z] };
     }
     return null;
   }

@@ -370,6 +370,14 @@ export class Viewer extends EventTarget {
     this.#picker.clear();
   }
 
+  /** Unit direction the camera looks along, in the model's coordinates (file axes). */
+  viewDirectionInModel() {
+    const d = this.#controls.target.clone().sub(this.#camera.position);
+    if (d.lengthSq() === 0) return [0, 0, -1];
+    d.applyQuaternion(this.#model.quaternion.clone().invert()).normalize();
+    return [d.x, d.y, d.z];
+  }
+
   #viewDirection() {
     return this.#camera.position.clone().sub(this.#controls.target);
   }
@@ -414,7 +422,10 @@ export class Viewer extends EventTarget {
     return this.#picker.pick(this.#raycaster, this.#mesh, (id) => this.#isVisible(id));
   }
 
-  /** Emits 'hover' { patchId | null, clientX, clientY } and 'pick' { patchId | null, zoom }. */
+  /**
+   * Emits 'hover' { patchId | null, clientX, clientY } and 'pick' { patchId | null, point }
+   * (point: the hit in the model's coordinates, null on a miss).
+   */
   #listenForPicks(canvas) {
     let down = null;
     let hoverQueued = null;
@@ -441,7 +452,7 @@ export class Viewer extends EventTarget {
       const moved = Math.hypot(event.clientX - down.x, event.clientY - down.y);
       if (moved > 4 || performance.now() - down.time > 600) return;
       const hit = this.#pickAt(event.clientX, event.clientY);
-      emit('pick', { patchId: hit ? hit.patchId : null });
+      emit('pick', { patchId: hit ? hit.patchId : null, point: hit ? hit.point : null });
     });
     canvas.addEventListener('dblclick', (event) => {
       const hit = this.#pickAt(event.clientX, event.clientY);

@@ -24,8 +24,9 @@ import init, { Mesh, wasmMemoryBytes } from '../pkg/skinpath.js';
 import * as segmentTool from './segment.js';
 import * as sprayTool from './spray.js';
 import * as drillTool from './drill.js';
+import * as pathsTool from './paths.js';
 
-const TOOLS = { segment: segmentTool, spray: sprayTool, drill: drillTool };
+const TOOLS = { segment: segmentTool, spray: sprayTool, drill: drillTool, paths: pathsTool };
 
 /** Posts progress at most once per whole percent per stage: the core may call back often. */
 function progressFor(id) {

@@ -1,0 +1,162 @@
+// Worker side of the paths tool (tools/paths.js): the geodesic distance from a source (a
+// section plane, a boundary loop) by the mesh or the voxel method, its iso-distance passes,
+// and the tool-path exports. Keeps the last DistanceField for the exports. Protocol and
+// `ctx`: see worker.js. Lengths arrive and leave in the file's units.
+import { strToU8, zipSync } from '../vendor/fflate/esm/browser.js';
+
+export const doing = { compute: 'computing the geodesic distance', exportPaths: 'writing the path program' };
+
+let field = null; // DistanceField of the result on screen
+let pathSpec = null; // { spacing, pathOptions } it was cut with
+
+export function onMeshChanged() {
+  field?.free();
+  field = null;
+  pathSpec = null;
+}
+
+/** Robot programs name their module or routine in the text; use it as the file name. */
+function fileNameOf(text, format, stem, index) {
+  if (format === 'rapid') {
+    const m = text.match(/^\s*MODULE\s+(\w+)/m);
+    return `${m ? m[1] : `${stem}_${index}`}.mod`;
+  }
+  const m = text.match(/^\s*DEF\s+(\w+)\s*\(/im);
+  return `${m ? m[1] : `${stem}_${index}`}.src`;
+}
+
+/** Flattens iso-paths into one transferable array and a table of { level, distance, closed, start, count }. */
+function packPaths(paths) {
+  let total = 0;
+  for (const p of paths) total += p.points.length;
+  const points = new Float32Array(total);
+  const table = [];
+  let at = 0;
+  for (const p of paths) {
+    points.set(p.points, at);
+    let length = 0;
+    const q = p.points;
+    for (let i = 3; i < q.length; i += 3) length += Math.hypot(q[i] - q[i - 3], q[i + 1] - q[i - 2], q[i + 2] - q[i - 1]);
+    if (p.closed && q.length >= 6) {
+      const n = q.length;
+      length += Math.hypot(q[0] - q[n - 3], q[1] - q[n - 2], q[2] - q[n - 1]);
+    }
+    table.push({ level: p.level, distance: p.distance, closed: p.closed, start: at / 3, count: q.length / 3, length });
+    at += q.length;
+  }
+  return { points, table };
+}
+
+/** Centre of the mesh's bounding box (the plane's point when none was clicked). */
+function boxCentre(ctx) {
+  const P = ctx.welded().positions;
+  const lo = [Infinity, Infinity, Infinity];
+  const hi = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < P.length; i += 3) {
+    for (let k = 0; k < 3; k++) {
+      lo[k] = Math.min(lo[k], P[i + k]);
+      hi[k] = Math.max(hi[k], P[i + k]);
+    }
+  }
+  return [0, 1, 2].map((k) => (lo[k] + hi[k]) / 2);
+}
+
+export const ops = {
+  /**
+   * { source: { kind: 'plane', point|null, normal } | { kind: 'boundary', loop? }
+   *   | { kind: 'points', points (flat xyz), closed }, patchId|null,
+   *   methods: ['mesh'|'voxel', …], voxelSize, spacing, pathOptions } → per method the vertex
+   * distances, and for the first method its paths and a trace of the source. The first
+   * method's field stays here for the exports.
+   */
+  compute(ctx, { source, patchId, methods, voxelSize, spacing, pathOptions }, progress) {
+    let faces;
+    if (patchId !== null && patchId !== undefined) {
+      if (!ctx.segmentation) throw new Error('There is no segmentation: segment the model or use the whole mesh.');
+      faces = ctx.segmentation.patchFaces(patchId);
+    }
+    let src;
+    if (source.kind === 'plane') src = { plane: { point: source.point ?? boxCentre(ctx), normal: source.normal } };
+    else if (source.kind === 'points') src = { polyline: Float64Array.from(source.points), closed: source.closed };
+    else src = { boundaryOf: patchId === null || patchId === undefined ? 'mesh' : patchId, ...(source.loop !== undefined ? { loop: source.loop } : {}) };
+    const out = { runs: [], point: src.plane?.point ?? null };
+    const transfer = [];
+    let kept = null;
+    try {
+      methods.forEach((method, i) => {
+        const params = { method, ...(faces ? { faces } : {}), ...(method === 'voxel' && voxelSize ? { voxelSize } : {}) };
+        const t0 = performance.now();
+        const f = ctx.mesh.geodesicDistance(src, params,
+          (stage, fraction) => progress(`${method === 'voxel' ? 'Voxel' : 'Mesh'} method: ${stage}`, (i + fraction) / methods.length));
+        const ms = performance.now() - t0;
+        const run = { method, maxDistance: f.maxDistance, vertexDistance: f.vertexDistance(), ms, voxelCount: f.voxelCount };
+        transfer.push(run.vertexDistance.buffer);
+        if (i === 0) {
+          kept = f;
+          progress('Cutting the passes', null);
+          const { points, table } = packPaths(f.isoPaths(spacing, pathOptions));
+          run.points = points;
+          run.table = table;
+          transfer.push(points.buffer);
+          // The source, traced as the iso-line a hair away from it.
+          const eps = Math.max(f.maxDistance * 1e-4, 1e-9);
+          const trace = packPaths(f.isoPaths(eps, { maxLevel: 1, pointSpacing: Math.max(spacing / 4, eps) }));
+          run.source = trace.points;
+          run.sourceTable = trace.table;
+          transfer.push(trace.points.buffer);
+        } else {
+          f.free();
+        }
+        out.runs.push(run);
+      });
+    } catch (error) {
+      kept?.free();
+      throw error;
+    }
+    field?.free();
+    field = kept;
+    pathSpec = { spacing, pathOptions };
+    // The welded mesh, for the colour map.
+    const { positions, indices } = ctx.welded();
+    out.positions = Float32Array.from(positions);
+    out.indices = Uint32Array.from(indices);
+    transfer.push(out.positions.buffer, out.indices.buffer);
+    out.memoryBytes = ctx.memoryBytes();
+    return [out, transfer];
+  },
+
+  /**
+   * { format: 'csv'|'json'|'rapid'|'krl', options, order, stem } → { fileName, bytes,
+   * fileCount }: one file as it is, several in one ZIP archive.
+   */
+  exportPaths(ctx, { format, options, stem }, progress) {
+    if (!field) throw new Error('NO_PATHS');
+    progress('Writing the program', 0);
+    const path = field.toolPath(pathSpec.spacing, pathSpec.pathOptions);
+    let texts;
+    try {
+      if (format === 'csv') texts = [path.toCsv(options)];
+      else if (format === 'json') texts = [path.toJson(options)];
+      else if (format === 'rapid') texts = path.toRapid(options);
+      else if (format === 'krl') texts = path.toKrl(options);
+      else throw new Error(`Unknown export format "${format}".`);
+    } finally {
+      path.free();
+    }
+    const ext = { csv: 'csv', json: 'json' }[format];
+    const names = texts.map((text, i) => (ext ? `${stem}_paths.${ext}` : fileNameOf(text, format, `${stem}_paths`, i)));
+    if (texts.length === 1) {
+      const bytes = strToU8(texts[0]);
+      return [{ fileName: names[0], bytes, fileCount: 1 }, [bytes.buffer]];
+    }
+    const files = {};
+    texts.forEach((text, i) => {
+      let name = names[i];
+      for (let k = 2; name in files; k++) name = names[i].replace(/(\.\w+)$/, `_${k}$1`);
+      files[name] = strToU8(text);
+    });
+    progress('Compressing', 0.5);
+    const bytes = zipSync(files, { level: 6 });
+    return [{ fileName: `${stem}_paths_${format}.zip`, bytes, fileCount: texts.length }, [bytes.buffer]];
+  },
+};
