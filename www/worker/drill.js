@@ -2,7 +2,7 @@
 // mesh or from four laser readings, corrects the holes with both methods, writes the drilling
 // program, and hands out the paper's built-in example. Protocol and `ctx`: see worker.js.
 // Everything arrives and leaves in the file's units (robot programs are written in mm).
-import { strToU8, zipSync } from '../vendor/fflate/esm/browser.js';
+import { packageFiles } from './programs.js';
 import { drillPaperExample, normalFromLasers, parseHolesCsv } from '../pkg/skinpath.js';
 
 export const doing = {
@@ -17,16 +17,6 @@ export const doing = {
 
 /** Ops that do not need a model on screen. */
 export const meshFree = ['example', 'parseHoles', 'laserNormals'];
-
-/** Robot programs name their module or routine in the text; use it as the file name. */
-function fileNameOf(text, format, stem, index) {
-  if (format === 'rapid') {
-    const m = text.match(/^\s*MODULE\s+(\w+)/m);
-    return `${m ? m[1] : `${stem}_${index}`}.mod`;
-  }
-  const m = text.match(/^\s*DEF\s+(\w+)\s*\(/im);
-  return `${m ? m[1] : `${stem}_${index}`}.src`;
-}
 
 export const ops = {
   /** → DrillPaperExample (STL bytes, references, ids, nominal holes, truth). */
@@ -82,19 +72,6 @@ export const ops = {
   program(ctx, { params, pose, format, options, stem }, progress) {
     progress('Writing the program', 0);
     const texts = ctx.mesh.drillingProgram(params, pose, format, options);
-    const ext = { csv: 'csv', json: 'json' }[format];
-    const names = texts.map((text, i) => (ext ? `${stem}_drill.${ext}` : fileNameOf(text, format, `${stem}_drill`, i)));
-    if (texts.length === 1) {
-      const bytes = strToU8(texts[0]);
-      return [{ fileName: names[0], bytes, fileCount: 1 }, [bytes.buffer]];
-    }
-    const files = {};
-    texts.forEach((text, i) => {
-      let name = names[i];
-      for (let k = 2; name in files; k++) name = names[i].replace(/(\.\w+)$/, `_${k}$1`);
-      files[name] = strToU8(text);
-    });
-    const bytes = zipSync(files, { level: 6 });
-    return [{ fileName: `${stem}_drill_${format}.zip`, bytes, fileCount: texts.length }, [bytes.buffer]];
+    return packageFiles(texts, format, `${stem}_drill`, progress);
   },
 };

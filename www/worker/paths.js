@@ -2,7 +2,7 @@
 // section plane, a boundary loop) by the mesh or the voxel method, its iso-distance passes,
 // and the tool-path exports. Keeps the last DistanceField for the exports. Protocol and
 // `ctx`: see worker.js. Lengths arrive and leave in the file's units.
-import { strToU8, zipSync } from '../vendor/fflate/esm/browser.js';
+import { exportTexts, packageFiles } from './programs.js';
 
 export const doing = { compute: 'computing the geodesic distance', exportPaths: 'writing the path program' };
 
@@ -13,16 +13,6 @@ export function onMeshChanged() {
   field?.free();
   field = null;
   pathSpec = null;
-}
-
-/** Robot programs name their module or routine in the text; use it as the file name. */
-function fileNameOf(text, format, stem, index) {
-  if (format === 'rapid') {
-    const m = text.match(/^\s*MODULE\s+(\w+)/m);
-    return `${m ? m[1] : `${stem}_${index}`}.mod`;
-  }
-  const m = text.match(/^\s*DEF\s+(\w+)\s*\(/im);
-  return `${m ? m[1] : `${stem}_${index}`}.src`;
 }
 
 /** Flattens iso-paths into one transferable array and a table of { level, distance, closed, start, count }. */
@@ -135,28 +125,10 @@ export const ops = {
     const path = field.toolPath(pathSpec.spacing, pathSpec.pathOptions);
     let texts;
     try {
-      if (format === 'csv') texts = [path.toCsv(options)];
-      else if (format === 'json') texts = [path.toJson(options)];
-      else if (format === 'rapid') texts = path.toRapid(options);
-      else if (format === 'krl') texts = path.toKrl(options);
-      else throw new Error(`Unknown export format "${format}".`);
+      texts = exportTexts(path, format, options);
     } finally {
       path.free();
     }
-    const ext = { csv: 'csv', json: 'json' }[format];
-    const names = texts.map((text, i) => (ext ? `${stem}_paths.${ext}` : fileNameOf(text, format, `${stem}_paths`, i)));
-    if (texts.length === 1) {
-      const bytes = strToU8(texts[0]);
-      return [{ fileName: names[0], bytes, fileCount: 1 }, [bytes.buffer]];
-    }
-    const files = {};
-    texts.forEach((text, i) => {
-      let name = names[i];
-      for (let k = 2; name in files; k++) name = names[i].replace(/(\.\w+)$/, `_${k}$1`);
-      files[name] = strToU8(text);
-    });
-    progress('Compressing', 0.5);
-    const bytes = zipSync(files, { level: 6 });
-    return [{ fileName: `${stem}_paths_${format}.zip`, bytes, fileCount: texts.length }, [bytes.buffer]];
+    return packageFiles(texts, format, `${stem}_paths`, progress);
   },
 };

@@ -1,7 +1,7 @@
 // Worker side of the spray tool (tools/spray.js): plans on the mesh held by the worker, keeps
 // the last SprayPlan for the exports, and writes export files (zipped when there are several).
 // Protocol and `ctx`: see worker.js. Parameters arrive already in the file's units.
-import { strToU8, zipSync } from '../vendor/fflate/esm/browser.js';
+import { exportTexts, packageFiles } from './programs.js';
 
 export const doing = { plan: 'planning the spray trajectory', exportPlan: 'writing the spray program' };
 
@@ -10,16 +10,6 @@ let plan = null; // SprayPlan of the result on screen
 export function onMeshChanged() {
   plan?.free();
   plan = null;
-}
-
-/** Robot programs name their module or routine in the text; use it as the file name. */
-function fileNameOf(text, format, stem, index) {
-  if (format === 'rapid') {
-    const m = text.match(/^\s*MODULE\s+(\w+)/m);
-    return `${m ? m[1] : `${stem}_${index}`}.mod`;
-  }
-  const m = text.match(/^\s*DEF\s+(\w+)\s*\(/im);
-  return `${m ? m[1] : `${stem}_${index}`}.src`;
 }
 
 /**
@@ -111,27 +101,7 @@ export const ops = {
   exportPlan(ctx, { format, options, stem }, progress) {
     if (!plan) throw new Error('NO_PLAN');
     progress('Writing the program', 0);
-    let texts;
-    if (format === 'csv') texts = [plan.toCsv(options)];
-    else if (format === 'json') texts = [plan.toJson(options)];
-    else if (format === 'rapid') texts = plan.toRapid(options);
-    else if (format === 'krl') texts = plan.toKrl(options);
-    else throw new Error(`Unknown export format "${format}".`);
-    const ext = { csv: 'csv', json: 'json' }[format];
-    const names = texts.map((text, i) => (ext ? `${stem}_spray.${ext}` : fileNameOf(text, format, `${stem}_spray`, i)));
-    if (texts.length === 1) {
-      const bytes = strToU8(texts[0]);
-      return [{ fileName: names[0], bytes, fileCount: 1 }, [bytes.buffer]];
-    }
-    const files = {};
-    texts.forEach((text, i) => {
-      let name = names[i];
-      for (let k = 2; name in files; k++) name = names[i].replace(/(\.\w+)$/, `_${k}$1`);
-      files[name] = strToU8(text);
-    });
-    progress('Compressing', 0.5);
-    const bytes = zipSync(files, { level: 6 });
-    return [{ fileName: `${stem}_spray_${format}.zip`, bytes, fileCount: texts.length }, [bytes.buffer]];
+    return packageFiles(exportTexts(plan, format, options), format, `${stem}_spray`, progress);
   },
 
   drop() {
