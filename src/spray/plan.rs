@@ -7,6 +7,8 @@
 //!         every spacing tried.
 //! Cost:   samples and their grids once; per spacing tried O(F + S log S) for the raster and
 //!         O(time samples × points per cone) for the deposition.
+//!         With quality limits, a second sample set at [`COARSE_RESOLUTION_RATIO`] times the
+//!         resolution serves the search's coarse scan when it has at most half the samples.
 //! Deviations: optional `targetThickness` scales the speed after the spacing is fixed
 //!         (thickness ∝ 1/v); the iterations keep the figures at the given speed.
 

@@ -2,17 +2,29 @@
 //!
 //! Source: spray patent (Tsinghua, Guan & Chen), step 7: if `E > E_m` or `δ > δ_m`, change
 //! `b` and repeat steps 2–6. The patent does not say how to change `b`.
-//! Input:  spacing bounds, limits, and a function evaluating one spacing.
-//! Output: the chosen spacing, whether it meets the limits, every spacing tried.
-//! Cost:   at most [`COARSE_STEPS`] + [`REFINE_ROUNDS`]·[`REFINE_STEPS`] evaluations.
+//! Input:  spacing bounds, limits, and a function evaluating one spacing at coarse or full
+//!         evaluation resolution.
+//! Output: the chosen spacing, whether it meets the limits, every spacing tried (with the
+//!         resolution it was evaluated at).
+//! Cost:   at most 2·[`COARSE_STEPS`] + [`REFINE_ROUNDS`]·[`REFINE_STEPS`] evaluations, the
+//!         coarse scan's on the coarse samples (about a quarter as many at twice the
+//!         resolution).
 //! Deviations (no paper): quality is not monotone in `b` (the overlap of neighbouring
 //!         passes swings between ridges and troughs), so bisection could miss the answer:
 //!         a coarse scan of evenly spaced spacings finds the largest feasible one, then
 //!         rounds of finer scans between it and the next coarse spacing push it up (8
-//!         coarse spacings, then 4 rounds of 2 that each cut the bracket to a third: the
-//!         answer is within 1/189 of the range below the true largest feasible spacing when
-//!         quality is monotone between the two coarse spacings). When no
-//!         spacing meets the limits, the one with the smallest `max(E/E_m, δ/δ_m)` is chosen.
+//!         coarse spacings, then up to 4 rounds of 2 that each cut the bracket to a third:
+//!         the answer is within 1/189 of the range below the true largest feasible spacing
+//!         when quality is monotone between the two coarse spacings). The coarse scan may
+//!         run on coarser samples; then the largest coarse-feasible spacing is re-evaluated
+//!         at full resolution (and, if it fails there, the next smaller coarse-feasible
+//!         ones) before refining, and the refinement runs at full resolution, so the chosen
+//!         spacing is the largest meeting the limits at full resolution among those tried
+//!         at full resolution. Refinement stops early once the bracket is at most
+//!         [`REFINE_TOLERANCE`] of the feasible spacing. When no spacing meets the limits,
+//!         the full-resolution one with the smallest `max(E/E_m, δ/δ_m)` is chosen (with a
+//!         coarse scan: the coarse spacing closest to the limits, re-evaluated at full
+//!         resolution).
 
 use super::params::SprayError;
 use super::quality::ThicknessStats;
