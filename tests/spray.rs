@@ -398,15 +398,24 @@ fn outermost_passes_lie_within_half_a_spacing_of_the_boundary() {
 fn check_search(plan: &SprayPlan, max_error: f64, resolution: f64) {
     assert!(plan.limits_met, "{:?}", plan.messages);
     assert!(plan.quality.interior.error <= max_error);
-    // The coarse scan, one confirmation at full resolution, at least one refinement.
-    assert!(plan.iterations.len() >= COARSE_STEPS + 1 + REFINE_STEPS);
-    // The scan ran at the coarse resolution (these meshes are coarser than both).
-    for it in &plan.iterations[..COARSE_STEPS] {
-        assert_eq!(it.resolution, COARSE_RESOLUTION_RATIO * resolution);
+    // The scan ran at the coarse resolution (these meshes are coarser than both), from the
+    // widest spacing down until one met the limits; everything after it at full resolution.
+    let coarse = COARSE_RESOLUTION_RATIO * resolution;
+    let scan = plan
+        .iterations
+        .iter()
+        .take_while(|it| it.resolution == coarse)
+        .count();
+    assert!((1..=COARSE_STEPS).contains(&scan), "{scan} coarse");
+    assert!(plan.iterations[scan - 1].met);
+    for w in plan.iterations[..scan].windows(2) {
+        assert!(w[0].spacing > w[1].spacing && !w[0].met);
     }
-    for it in &plan.iterations[COARSE_STEPS..] {
+    for it in &plan.iterations[scan..] {
         assert_eq!(it.resolution, resolution);
     }
+    // One confirmation at full resolution, at least one refinement round.
+    assert!(plan.iterations.len() >= scan + 1 + REFINE_STEPS);
     let full: Vec<_> = plan
         .iterations
         .iter()

@@ -11,7 +11,8 @@
 //!         resolution).
 //! Deviations (no paper): quality is not monotone in `b` (the overlap of neighbouring
 //!         passes swings between ridges and troughs), so bisection could miss the answer:
-//!         a coarse scan of evenly spaced spacings finds the largest feasible one, then
+//!         a coarse scan of evenly spaced spacings, from the widest down to the first
+//!         feasible one (narrow spacings cost the most), finds the largest feasible one, then
 //!         rounds of finer scans between it and the next coarse spacing push it up (8
 //!         coarse spacings, then up to 4 rounds of 2 that each cut the bracket to a third:
 //!         the answer is within 1/189 of the range below the true largest feasible spacing
@@ -149,10 +150,13 @@ pub fn search_spacing(
     } else {
         Fidelity::Full
     };
+    // Descending: the first spacing meeting the limits is the largest, and the narrow
+    // (costly) spacings below it need not be evaluated.
     let mut best: Option<usize> = None;
-    for (i, &b) in coarse.iter().enumerate() {
-        if run(b, scan_fidelity, &mut iterations)? {
+    for i in (0..coarse.len()).rev() {
+        if run(coarse[i], scan_fidelity, &mut iterations)? {
             best = Some(i);
+            break;
         }
     }
     let excess = |it: &Iteration| {
@@ -162,32 +166,31 @@ pub fn search_spacing(
             ..Default::default()
         })
     };
+    let scanned = iterations.len();
     if coarse_scan {
-        // Confirm at full fidelity: the largest coarse-feasible spacing, then downwards
-        // (at most COARSE_STEPS evaluations); when none was coarse-feasible, the closest.
-        let start = best.or_else(|| {
-            (0..iterations.len())
+        // Confirm at full resolution: the largest coarse-feasible spacing and, while that
+        // fails, the smaller coarse spacings in turn (at most COARSE_STEPS evaluations);
+        // when none was coarse-feasible, only the one closest to the limits.
+        let confirm: Vec<usize> = match best {
+            Some(top) => (0..=top).rev().collect(),
+            None => (0..scanned)
                 .min_by(|&a, &b| excess(&iterations[a]).total_cmp(&excess(&iterations[b])))
-        });
+                .map(|k| coarse.len() - 1 - k)
+                .into_iter()
+                .collect(),
+        };
         best = None;
-        if let Some(top) = start {
-            let candidates: Vec<usize> = if iterations[top].met {
-                (0..=top).rev().filter(|&i| iterations[i].met).collect()
-            } else {
-                vec![top]
-            };
-            for i in candidates {
-                if run(coarse[i], Fidelity::Full, &mut iterations)? {
-                    best = Some(i);
-                    break;
-                }
+        for i in confirm {
+            if run(coarse[i], Fidelity::Full, &mut iterations)? {
+                best = Some(i);
+                break;
             }
         }
     }
     let Some(i) = best else {
         let pick = iterations
             .iter()
-            .skip(if coarse_scan { coarse.len() } else { 0 })
+            .skip(if coarse_scan { scanned } else { 0 })
             .min_by(|a, b| excess(a).total_cmp(&excess(b)))
             .map_or(hi, |it| it.spacing);
         return Ok(SpacingChoice {
