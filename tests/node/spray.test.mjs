@@ -103,7 +103,8 @@ test('the spacing search meets a limit and reports every spacing tried', () => {
   const mesh = Mesh.fromStl(plateStl(400, 300, 4, 3));
   const plan = mesh.planSpray({ ...base, timeStep: 0.05, quality: { maxError: 0.1, minSpacing: 25 } });
   const its = plan.iterations();
-  assert.ok(its.length >= 12);
+  // At least one coarse spacing, its confirmation and one refinement round of two.
+  assert.ok(its.length >= 4, `${its.length} tried`);
   const q = plan.quality();
   assert.equal(q.limitsMet, true);
   assert.ok(q.interior.error <= 0.1);
