@@ -8,7 +8,10 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use common::{binary_stl, import, Tri};
 use skinpath::mesh::ImportedMesh;
-use skinpath::spray::{patch_frame, plan_spray, QualityLimits, SprayError, SprayParams, SprayPlan};
+use skinpath::spray::{
+    patch_frame, plan_spray, QualityLimits, SprayError, SprayParams, SprayPlan,
+    COARSE_RESOLUTION_RATIO, COARSE_STEPS, REFINE_STEPS,
+};
 use skinpath::toolpath::PoseKind;
 use std::f64::consts::PI;
 
@@ -392,17 +395,45 @@ fn outermost_passes_lie_within_half_a_spacing_of_the_boundary() {
     }
 }
 
-fn check_search(plan: &SprayPlan, max_error: f64) {
+fn check_search(plan: &SprayPlan, max_error: f64, resolution: f64) {
     assert!(plan.limits_met, "{:?}", plan.messages);
     assert!(plan.quality.interior.error <= max_error);
-    assert!(plan.iterations.len() >= 12);
-    assert!(plan
+    // The scan ran at the coarse resolution (these meshes are coarser than both), from the
+    // widest spacing down until one met the limits; everything after it at full resolution.
+    let coarse = COARSE_RESOLUTION_RATIO * resolution;
+    let scan = plan
         .iterations
         .iter()
-        .any(|it| it.spacing == plan.spacing && it.met));
-    // The largest feasible spacing tried is the one chosen.
+        .take_while(|it| it.resolution == coarse)
+        .count();
+    assert!((1..=COARSE_STEPS).contains(&scan), "{scan} coarse");
+    assert!(plan.iterations[scan - 1].met);
+    for w in plan.iterations[..scan].windows(2) {
+        assert!(w[0].spacing > w[1].spacing && !w[0].met);
+    }
+    for it in &plan.iterations[scan..] {
+        assert_eq!(it.resolution, resolution);
+    }
+    // One confirmation at full resolution, at least one refinement round.
+    assert!(plan.iterations.len() >= scan + 1 + REFINE_STEPS);
+    let full: Vec<_> = plan
+        .iterations
+        .iter()
+        .filter(|it| it.resolution == resolution)
+        .collect();
+    assert!(full.iter().any(|it| it.spacing == plan.spacing && it.met));
+    // The plan's figures are those of the chosen spacing at full resolution.
+    let chosen = full
+        .iter()
+        .rev()
+        .find(|it| it.spacing == plan.spacing)
+        .unwrap();
+    assert_eq!(chosen.error, plan.quality.interior.error);
     for it in &plan.iterations {
         assert_eq!(it.met, it.error <= max_error);
+    }
+    // The largest feasible spacing tried at full resolution is the one chosen.
+    for it in &full {
         assert!(
             !(it.met && it.spacing > plan.spacing),
             "{} is feasible and larger",
@@ -425,7 +456,7 @@ fn the_spacing_search_meets_the_limits_on_a_plate() {
         ..QualityLimits::default()
     });
     let plan = plan(&m, &p).unwrap();
-    check_search(&plan, 0.1);
+    check_search(&plan, 0.1, R / 4.0);
     assert!(
         plan.spacing > 0.5 * R && plan.spacing < 2.0 * R,
         "spacing {}",
@@ -447,13 +478,13 @@ fn the_spacing_search_meets_the_limits_on_a_curved_panel_and_scales_the_speed() 
     });
     p.target_thickness = Some(0.05);
     let plan = plan(&m, &p).unwrap();
-    check_search(&plan, 0.15);
+    check_search(&plan, 0.15, R / 3.0);
     // Thickness ∝ 1/v: the interior mean is the target, at a speed that says so.
     assert_near!(plan.quality.interior.mean, 0.05, 1e-12);
     let chosen = plan
         .iterations
         .iter()
-        .find(|it| it.spacing == plan.spacing)
+        .rfind(|it| it.spacing == plan.spacing && it.resolution == R / 3.0)
         .unwrap();
     assert_near!(plan.speed, p.speed * chosen.mean / 0.05, 1e-9 * plan.speed);
     assert_eq!(plan.path.speed, plan.speed);
@@ -473,9 +504,12 @@ fn impossible_limits_return_the_closest_spacing_and_say_so() {
     assert!(!plan.limits_met);
     assert!(plan.messages.iter().any(|s| s.contains("not met")));
     assert!(plan.iterations.iter().all(|it| !it.met));
+    // The closest spacing among those tried at full resolution.
+    assert!(plan.iterations.iter().any(|it| it.resolution == R / 3.0));
     let best = plan
         .iterations
         .iter()
+        .filter(|it| it.resolution == R / 3.0)
         .map(|it| it.error)
         .fold(f64::INFINITY, f64::min);
     assert_near!(plan.quality.interior.error, best, 1e-12);

@@ -51,22 +51,21 @@ impl SprayModel {
         if l <= 0.0 || l > MAX_AXIAL_RATIO * self.standoff {
             return 0.0;
         }
-        let dist2 = w.norm_squared();
-        let rho2 = (dist2 - l * l).max(0.0);
-        // r on the plane at distance h along the same ray.
-        let r2 = rho2 * (self.standoff * self.standoff) / (l * l);
-        let big_r2 = self.radius * self.radius;
-        if r2 >= big_r2 {
+        // cos λ > 0 ⇔ −w·n > 0 (the distance |w| is positive).
+        let wn = -w.dot(n);
+        if wn <= 0.0 {
             return 0.0;
         }
-        let dist = dist2.sqrt();
-        let cos_lambda = -w.dot(n) / dist;
-        if cos_lambda <= 0.0 {
+        let rho2 = (w.norm_squared() - l * l).max(0.0);
+        // r on the plane at distance h along the same ray: r² = ρ²·h²/l².
+        let inv_l = 1.0 / l;
+        let h_over_l2 = self.standoff * self.standoff * inv_l * inv_l;
+        let r2_over_big_r2 = rho2 * h_over_l2 / (self.radius * self.radius);
+        if r2_over_big_r2 >= 1.0 {
             return 0.0;
         }
-        let cos_theta = l / dist;
-        let planar = self.peak_rate * (1.0 - r2 / big_r2);
-        planar * (self.standoff / l).powi(2) * cos_lambda / cos_theta
+        // cos λ / cos θ = (−w·n/|w|) / (l/|w|) = −w·n / l: no square root.
+        self.peak_rate * (1.0 - r2_over_big_r2) * h_over_l2 * wn * inv_l
     }
 }
 

@@ -24,11 +24,14 @@ pub use grid::PointGrid;
 pub use params::{
     QualityLimits, Resolved, SprayError, SprayParams, MAX_PLANES, MAX_SAMPLES, MAX_TIME_SAMPLES,
 };
-pub use plan::{plan_spray, SprayPlan};
+pub use plan::{plan_spray, SprayPlan, COARSE_RESOLUTION_RATIO};
 pub use quality::{evaluate_quality, interior_mask, thickness_stats, Quality, ThicknessStats};
 pub use raster::{
     order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass, ARC_BINS, MAX_STRETCH,
 };
 pub use samples::{sample_faces, EvaluationSamples};
-pub use search::{search_spacing, Iteration, Limits, SpacingChoice};
+pub use search::{
+    search_spacing, Fidelity, Iteration, Limits, SpacingChoice, COARSE_STEPS, REFINE_ROUNDS,
+    REFINE_STEPS, REFINE_TOLERANCE,
+};
 pub use trajectory::{build_trajectory, TrajectoryCounts, ARC_STEP_RAD};

@@ -7,6 +7,8 @@
 //!         every spacing tried.
 //! Cost:   samples and their grids once; per spacing tried O(F + S log S) for the raster and
 //!         O(time samples × points per cone) for the deposition.
+//!         With quality limits, a second sample set at [`COARSE_RESOLUTION_RATIO`] times the
+//!         resolution serves the search's coarse scan when it has at most half the samples.
 //! Deviations: optional `targetThickness` scales the speed after the spacing is fixed
 //!         (thickness ∝ 1/v); the iterations keep the figures at the given speed.
 
@@ -16,7 +18,7 @@ use super::params::{SprayError, SprayParams};
 use super::quality::{evaluate_quality, interior_mask, Quality, ThicknessStats};
 use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame};
 use super::samples::{sample_faces, EvaluationSamples};
-use super::search::{search_spacing, Iteration, Limits};
+use super::search::{search_spacing, Fidelity, Iteration, Limits};
 use super::trajectory::{build_trajectory, TrajectoryCounts};
 use crate::math::Real;
 use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
@@ -25,6 +27,11 @@ use crate::toolpath::ToolPath;
 /// Cell size of the evaluation-sample grid as a fraction of `R`: small enough that a cone's
 /// box visits few points outside the cone, large enough that it visits few empty cells.
 const GRID_CELL_RATIO: Real = 0.5;
+/// The spacing search's coarse scan samples at this multiple of the evaluation resolution.
+pub const COARSE_RESOLUTION_RATIO: Real = 2.0;
+/// The coarse scan is used only when its samples are at most this fraction of the full ones
+/// (on a mesh coarser than the resolution both are the mesh's own vertices).
+const COARSE_SAMPLE_FRACTION: Real = 0.5;
 
 /// A planned spray job.
 #[derive(Debug, Clone, PartialEq)]
@@ -65,6 +72,43 @@ struct Evaluation {
     empty_interior: bool,
 }
 
+/// Evaluation samples at one resolution, their grid and interior mask.
+struct Sampling {
+    resolution: Real,
+    samples: EvaluationSamples,
+    grid: PointGrid,
+    interior: Vec<bool>,
+}
+
+impl Sampling {
+    fn new(
+        mesh: &TriMesh,
+        adjacency: &FaceAdjacency,
+        geometry: &FaceGeometry,
+        frame: &PatchFrame,
+        resolution: Real,
+        radius: Real,
+        edge_exclusion: Real,
+    ) -> Result<Sampling, SprayError> {
+        let samples = sample_faces(mesh, geometry, &frame.faces, resolution)?;
+        let grid = PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius);
+        let interior = interior_mask(
+            mesh,
+            adjacency,
+            &frame.faces,
+            &frame.selected,
+            &samples.positions,
+            edge_exclusion,
+        );
+        Ok(Sampling {
+            resolution,
+            samples,
+            grid,
+            interior,
+        })
+    }
+}
+
 /// Everything that does not depend on the spacing.
 struct Setup<'a> {
     mesh: &'a TriMesh,
@@ -72,9 +116,7 @@ struct Setup<'a> {
     geometry: &'a FaceGeometry,
     params: &'a SprayParams,
     frame: PatchFrame,
-    samples: EvaluationSamples,
-    grid: PointGrid,
-    interior: Vec<bool>,
+    full: Sampling,
     model: SprayModel,
     extension: Real,
     time_step: Real,
@@ -99,18 +141,18 @@ impl Setup<'_> {
         Ok((path, counts, passes.len()))
     }
 
-    fn evaluate(&self, spacing: Real) -> Result<Evaluation, SprayError> {
+    fn evaluate(&self, spacing: Real, sampling: &Sampling) -> Result<Evaluation, SprayError> {
         let (path, counts, passes) = self.trajectory(spacing)?;
         let thickness = deposit(
             &path,
-            &self.samples,
-            &self.grid,
+            &sampling.samples,
+            &sampling.grid,
             &self.model,
             self.params.speed,
             self.time_step,
         )?;
         let (quality, empty_interior) =
-            evaluate_quality(&thickness, &self.samples.weights, &self.interior);
+            evaluate_quality(&thickness, &sampling.samples.weights, &sampling.interior);
         Ok(Evaluation {
             path,
             counts,
@@ -144,16 +186,32 @@ pub fn plan_spray(
     // Refuse a spacing wider than the patch before the costly set-up.
     frame.plane_offsets(params.spacing)?;
     progress("spray samples", 0.0);
-    let samples = sample_faces(mesh, geometry, &frame.faces, resolved.resolution)?;
-    let grid = PointGrid::new(&samples.positions, GRID_CELL_RATIO * resolved.radius);
-    let interior = interior_mask(
+    let full = Sampling::new(
         mesh,
         adjacency,
-        &frame.faces,
-        &frame.selected,
-        &samples.positions,
+        geometry,
+        &frame,
+        resolved.resolution,
+        resolved.radius,
         resolved.edge_exclusion,
-    );
+    )?;
+    // The coarse scan's samples, when they are markedly fewer.
+    let coarse = if params.has_limits() {
+        let c = Sampling::new(
+            mesh,
+            adjacency,
+            geometry,
+            &frame,
+            COARSE_RESOLUTION_RATIO * resolved.resolution,
+            resolved.radius,
+            resolved.edge_exclusion,
+        )?;
+        let fewer = (c.samples.positions.len() as Real)
+            <= COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real;
+        fewer.then_some(c)
+    } else {
+        None
+    };
     progress("spray samples", 1.0);
     let setup = Setup {
         mesh,
@@ -161,9 +219,7 @@ pub fn plan_spray(
         geometry,
         params,
         frame,
-        samples,
-        grid,
-        interior,
+        full,
         model: SprayModel {
             radius: resolved.radius,
             peak_rate: resolved.peak_rate,
@@ -189,13 +245,19 @@ pub fn plan_spray(
                 lo,
                 hi,
                 &limits,
-                &mut |b| {
-                    let r = setup.evaluate(b)?;
+                coarse.is_some(),
+                &mut |b, fidelity| {
+                    let sampling = match (fidelity, &coarse) {
+                        (Fidelity::Coarse, Some(c)) => c,
+                        _ => &setup.full,
+                    };
+                    let r = setup.evaluate(b, sampling)?;
                     let stats = r.quality.interior;
-                    if limits.met(&stats) && kept.as_ref().is_none_or(|(k, _)| b > *k) {
+                    let full = std::ptr::eq(sampling, &setup.full);
+                    if full && limits.met(&stats) && kept.as_ref().is_none_or(|(k, _)| b > *k) {
                         kept = Some((b, r));
                     }
-                    Ok(stats)
+                    Ok((stats, sampling.resolution))
                 },
                 &mut |f| progress("spray search", f),
             )?;
@@ -203,7 +265,7 @@ pub fn plan_spray(
                 let it = choice
                     .iterations
                     .iter()
-                    .find(|it| it.spacing == choice.spacing);
+                    .rfind(|it| it.spacing == choice.spacing);
                 messages.push(format!(
                     "quality limits not met: no spacing in [{lo:.6}, {hi:.6}] gives stdDev ≤ {} and error ≤ {}; the closest, spacing {:.6}, gives stdDev {:.6} and error {:.4}",
                     fmt_limit(q.max_std_dev),
@@ -227,11 +289,12 @@ pub fn plan_spray(
         empty_interior,
     } = match kept {
         Some((b, evaluation)) if b == spacing => evaluation,
-        _ => setup.evaluate(spacing)?,
+        _ => setup.evaluate(spacing, &setup.full)?,
     };
     let iterations = if iterations.is_empty() {
         vec![Iteration {
             spacing,
+            resolution: setup.full.resolution,
             mean: quality.interior.mean,
             std_dev: quality.interior.std_dev,
             error: quality.interior.error,
@@ -281,9 +344,9 @@ pub fn plan_spray(
         speed,
         pass_count,
         counts,
-        samples: setup.samples,
+        samples: setup.full.samples,
         thickness,
-        interior: setup.interior,
+        interior: setup.full.interior,
         quality,
         iterations,
         limits_met,

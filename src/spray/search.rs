@@ -2,17 +2,30 @@
 //!
 //! Source: spray patent (Tsinghua, Guan & Chen), step 7: if `E > E_m` or `δ > δ_m`, change
 //! `b` and repeat steps 2–6. The patent does not say how to change `b`.
-//! Input:  spacing bounds, limits, and a function evaluating one spacing.
-//! Output: the chosen spacing, whether it meets the limits, every spacing tried.
-//! Cost:   at most [`COARSE_STEPS`] + [`REFINE_ROUNDS`]·[`REFINE_STEPS`] evaluations.
+//! Input:  spacing bounds, limits, and a function evaluating one spacing at coarse or full
+//!         evaluation resolution.
+//! Output: the chosen spacing, whether it meets the limits, every spacing tried (with the
+//!         resolution it was evaluated at).
+//! Cost:   at most 2·[`COARSE_STEPS`] + [`REFINE_ROUNDS`]·[`REFINE_STEPS`] evaluations, the
+//!         coarse scan's on the coarse samples (about a quarter as many at twice the
+//!         resolution).
 //! Deviations (no paper): quality is not monotone in `b` (the overlap of neighbouring
 //!         passes swings between ridges and troughs), so bisection could miss the answer:
-//!         a coarse scan of evenly spaced spacings finds the largest feasible one, then
+//!         a coarse scan of evenly spaced spacings, from the widest down to the first
+//!         feasible one (narrow spacings cost the most), finds the largest feasible one, then
 //!         rounds of finer scans between it and the next coarse spacing push it up (8
-//!         coarse spacings, then 4 rounds of 2 that each cut the bracket to a third: the
-//!         answer is within 1/189 of the range below the true largest feasible spacing when
-//!         quality is monotone between the two coarse spacings). When no
-//!         spacing meets the limits, the one with the smallest `max(E/E_m, δ/δ_m)` is chosen.
+//!         coarse spacings, then up to 4 rounds of 2 that each cut the bracket to a third:
+//!         the answer is within 1/189 of the range below the true largest feasible spacing
+//!         when quality is monotone between the two coarse spacings). The coarse scan may
+//!         run on coarser samples; then the largest coarse-feasible spacing is re-evaluated
+//!         at full resolution (and, if it fails there, the next smaller coarse-feasible
+//!         ones) before refining, and the refinement runs at full resolution, so the chosen
+//!         spacing is the largest meeting the limits at full resolution among those tried
+//!         at full resolution. Refinement stops early once the bracket is at most
+//!         [`REFINE_TOLERANCE`] of the feasible spacing. When no spacing meets the limits,
+//!         the full-resolution one with the smallest `max(E/E_m, δ/δ_m)` is chosen (with a
+//!         coarse scan: the coarse spacing closest to the limits, re-evaluated at full
+//!         resolution).
 
 use super::params::SprayError;
 use super::quality::ThicknessStats;
@@ -24,6 +37,9 @@ pub const COARSE_STEPS: usize = 8;
 pub const REFINE_ROUNDS: usize = 4;
 /// Spacings tried per refinement round.
 pub const REFINE_STEPS: usize = 2;
+/// Refinement stops once the bracket above the feasible spacing is at most this fraction
+/// of it.
+pub const REFINE_TOLERANCE: Real = 0.02;
 
 /// One spacing tried, with the interior figures it gave.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -31,6 +47,8 @@ pub const REFINE_STEPS: usize = 2;
 pub struct Iteration {
     /// Pass spacing `b`.
     pub spacing: Real,
+    /// Evaluation resolution the figures were computed at.
+    pub resolution: Real,
     /// Interior mean thickness.
     pub mean: Real,
     /// Interior standard deviation `E`.
@@ -76,28 +94,48 @@ pub struct SpacingChoice {
     pub iterations: Vec<Iteration>,
 }
 
-/// Searches `[lo, hi]` for the largest spacing meeting `limits`; `evaluate(b)` returns the
-/// interior figures of spacing `b`; `progress(fraction)` is called after each evaluation.
+/// How a spacing is evaluated: on the coarse samples (scan) or the full ones.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fidelity {
+    /// The coarse evaluation samples (only used to bracket the answer).
+    Coarse,
+    /// The full evaluation samples (the figures the choice rests on).
+    Full,
+}
+
+/// Searches `[lo, hi]` for the largest spacing meeting `limits`; `evaluate(b, fidelity)`
+/// returns the interior figures of spacing `b` and the resolution they were computed at;
+/// `coarse_scan` says whether the coarse scan may use [`Fidelity::Coarse`];
+/// `progress(fraction)` is called after each evaluation.
+///
+/// The chosen spacing is the largest one meeting the limits at full fidelity among those
+/// evaluated at full fidelity; when none does, the full-fidelity one with the smallest
+/// excess.
 pub fn search_spacing(
     lo: Real,
     hi: Real,
     limits: &Limits,
-    evaluate: &mut dyn FnMut(Real) -> Result<ThicknessStats, SprayError>,
+    coarse_scan: bool,
+    evaluate: &mut dyn FnMut(Real, Fidelity) -> Result<(ThicknessStats, Real), SprayError>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<SpacingChoice, SprayError> {
-    let total = (COARSE_STEPS + REFINE_ROUNDS * REFINE_STEPS) as f64;
+    let total = (COARSE_STEPS + usize::from(coarse_scan) + REFINE_ROUNDS * REFINE_STEPS) as f64;
     let mut iterations: Vec<Iteration> = Vec::new();
-    let mut run = |b: Real, iterations: &mut Vec<Iteration>| -> Result<bool, SprayError> {
-        let s = evaluate(b)?;
+    let mut run = |b: Real,
+                   fidelity: Fidelity,
+                   iterations: &mut Vec<Iteration>|
+     -> Result<bool, SprayError> {
+        let (s, resolution) = evaluate(b, fidelity)?;
         let met = limits.met(&s);
         iterations.push(Iteration {
             spacing: b,
+            resolution,
             mean: s.mean,
             std_dev: s.std_dev,
             error: s.error,
             met,
         });
-        progress(iterations.len() as f64 / total);
+        progress((iterations.len() as f64 / total).min(1.0));
         Ok(met)
     };
     let coarse: Vec<Real> = if hi > lo {
@@ -107,28 +145,53 @@ pub fn search_spacing(
     } else {
         vec![hi]
     };
+    let scan_fidelity = if coarse_scan {
+        Fidelity::Coarse
+    } else {
+        Fidelity::Full
+    };
+    // Descending: the first spacing meeting the limits is the largest, and the narrow
+    // (costly) spacings below it need not be evaluated.
     let mut best: Option<usize> = None;
-    for (i, &b) in coarse.iter().enumerate() {
-        if run(b, &mut iterations)? {
+    for i in (0..coarse.len()).rev() {
+        if run(coarse[i], scan_fidelity, &mut iterations)? {
             best = Some(i);
+            break;
+        }
+    }
+    let excess = |it: &Iteration| {
+        limits.excess(&ThicknessStats {
+            std_dev: it.std_dev,
+            error: it.error,
+            ..Default::default()
+        })
+    };
+    let scanned = iterations.len();
+    if coarse_scan {
+        // Confirm at full resolution: the largest coarse-feasible spacing and, while that
+        // fails, the smaller coarse spacings in turn (at most COARSE_STEPS evaluations);
+        // when none was coarse-feasible, only the one closest to the limits.
+        let confirm: Vec<usize> = match best {
+            Some(top) => (0..=top).rev().collect(),
+            None => (0..scanned)
+                .min_by(|&a, &b| excess(&iterations[a]).total_cmp(&excess(&iterations[b])))
+                .map(|k| coarse.len() - 1 - k)
+                .into_iter()
+                .collect(),
+        };
+        best = None;
+        for i in confirm {
+            if run(coarse[i], Fidelity::Full, &mut iterations)? {
+                best = Some(i);
+                break;
+            }
         }
     }
     let Some(i) = best else {
         let pick = iterations
             .iter()
-            .min_by(|a, b| {
-                let ea = limits.excess(&ThicknessStats {
-                    std_dev: a.std_dev,
-                    error: a.error,
-                    ..Default::default()
-                });
-                let eb = limits.excess(&ThicknessStats {
-                    std_dev: b.std_dev,
-                    error: b.error,
-                    ..Default::default()
-                });
-                ea.total_cmp(&eb)
-            })
+            .skip(if coarse_scan { scanned } else { 0 })
+            .min_by(|a, b| excess(a).total_cmp(&excess(b)))
             .map_or(hi, |it| it.spacing);
         return Ok(SpacingChoice {
             spacing: pick,
@@ -140,12 +203,15 @@ pub fn search_spacing(
     if i + 1 < coarse.len() {
         let mut upper = coarse[i + 1];
         for _ in 0..REFINE_ROUNDS {
+            if upper - feasible <= REFINE_TOLERANCE * feasible {
+                break;
+            }
             let step = (upper - feasible) / (REFINE_STEPS + 1) as Real;
             let mut new_upper = feasible + step;
             let mut found = None;
             for m in 1..=REFINE_STEPS {
                 let b = feasible + step * m as Real;
-                if run(b, &mut iterations)? {
+                if run(b, Fidelity::Full, &mut iterations)? {
                     found = Some(b);
                     new_upper = b + step;
                 }

@@ -24,7 +24,7 @@ export interface ThicknessStats { mean: number; stdDev: number; error: number; m
  *  limitsMet false and a message when no spacing met the quality limits. */
 export interface SprayQuality { interior: ThicknessStats; whole: ThicknessStats; limitsMet: boolean; messages: string[] }
 /** One spacing tried by the search, with its interior figures. */
-export interface SprayIteration { spacing: number; mean: number; stdDev: number; error: number; met: boolean }
+export interface SprayIteration { spacing: number; resolution: number; mean: number; stdDev: number; error: number; met: boolean }
 /** Robot-program options: millimetres per file unit (default 1), program name, moves per file. */
 export interface ExportOptions { mmPerUnit?: number; name?: string; maxMoves?: number; lineEnding?: "lf" | "crlf" }
 "#;
