@@ -374,11 +374,7 @@ impl ParamReader {
             return Ok(None);
         };
         let name = self.name(key);
-        if self.depth >= MAX_DEPTH {
-            return Err(ArgError(format!(
-                "{name} is nested more than {MAX_DEPTH} objects deep"
-            )));
-        }
+        self.check_depth(&name)?;
         if !is_array(&v).unwrap_or(false) {
             return Err(self.wrong_type(key, &format!("an array of {count} objects"), &v));
         }
@@ -396,14 +392,7 @@ impl ParamReader {
                     exception_message(&e)
                 ))
             })?;
-            let reader = ParamReader {
-                object: item,
-                noun: self.noun,
-                prefix: format!("{name}[{i}]."),
-                depth: self.depth + 1,
-            };
-            reader.check(&format!("{name}[{i}]"), keys)?;
-            out.push(reader);
+            out.push(self.nested(item, &format!("{name}[{i}]"), keys)?);
         }
         Ok(Some(out))
     }
@@ -420,19 +409,35 @@ impl ParamReader {
             return Ok(None);
         };
         let name = self.name(key);
+        self.check_depth(&name)?;
+        self.nested(v, &name, keys).map(Some)
+    }
+
+    /// Refuses to open an object below this one at [`MAX_DEPTH`].
+    fn check_depth(&self, name: &str) -> Result<(), ArgError> {
         if self.depth >= MAX_DEPTH {
             return Err(ArgError(format!(
                 "{name} is nested more than {MAX_DEPTH} objects deep"
             )));
         }
+        Ok(())
+    }
+
+    /// A reader one level down for `object`, named `name` in messages, with its declared keys.
+    fn nested(
+        &self,
+        object: JsValue,
+        name: &str,
+        keys: &[&'static str],
+    ) -> Result<ParamReader, ArgError> {
         let reader = ParamReader {
-            object: v,
+            object,
             noun: self.noun,
             prefix: format!("{name}."),
             depth: self.depth + 1,
         };
-        reader.check(&name, keys)?;
-        Ok(Some(reader))
+        reader.check(name, keys)?;
+        Ok(reader)
     }
 }
 
