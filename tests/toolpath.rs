@@ -991,18 +991,18 @@ fn bad_options_are_refused_naming_the_option() {
     let path = drilling_path(2);
     for k in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         let o = options(k, None);
-        assert_eq!(option_error(to_csv(&path, &o)), "mm_per_unit");
-        assert_eq!(option_error(to_json(&path, &o)), "mm_per_unit");
-        assert_eq!(option_error(to_rapid(&path, &o)), "mm_per_unit");
-        assert_eq!(option_error(to_krl(&path, &o)), "mm_per_unit");
+        assert_eq!(option_error(to_csv(&path, &o)), "mmPerUnit");
+        assert_eq!(option_error(to_json(&path, &o)), "mmPerUnit");
+        assert_eq!(option_error(to_rapid(&path, &o)), "mmPerUnit");
+        assert_eq!(option_error(to_krl(&path, &o)), "mmPerUnit");
     }
     assert_eq!(
         option_error(to_csv(&path, &options(1e308, None))),
-        "mm_per_unit"
+        "mmPerUnit"
     );
     let o = options(1.0, Some(0));
-    assert_eq!(option_error(to_rapid(&path, &o)), "max_moves");
-    assert_eq!(option_error(to_krl(&path, &o)), "max_moves");
+    assert_eq!(option_error(to_rapid(&path, &o)), "maxMoves");
+    assert_eq!(option_error(to_krl(&path, &o)), "maxMoves");
     // (name, valid for RAPID, valid for KRL)
     for (name, rapid_ok, krl_ok) in [
         ("", false, false),

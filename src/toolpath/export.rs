@@ -149,14 +149,14 @@ pub(crate) fn check_common(path: &ToolPath, options: &ExportOptions) -> Result<(
     let k = options.mm_per_unit;
     if !(k.is_finite() && k > 0.0) {
         return Err(bad_option(
-            "mm_per_unit",
+            "mmPerUnit",
             format!("must be finite and positive, got {k}"),
         ));
     }
     for (index, p) in path.poses.iter().enumerate() {
         if !(p.position.coords * k).iter().all(|c| c.is_finite()) {
             return Err(bad_option(
-                "mm_per_unit",
+                "mmPerUnit",
                 format!("{k} scales pose {index} beyond the floating-point range"),
             ));
         }
@@ -164,7 +164,7 @@ pub(crate) fn check_common(path: &ToolPath, options: &ExportOptions) -> Result<(
     for (s, what) in [(path.speed, "speed"), (path.link_speed, "link speed")] {
         if !(s * k).is_finite() {
             return Err(bad_option(
-                "mm_per_unit",
+                "mmPerUnit",
                 format!("{k} scales the {what} beyond the floating-point range"),
             ));
         }
@@ -175,7 +175,7 @@ pub(crate) fn check_common(path: &ToolPath, options: &ExportOptions) -> Result<(
 /// The move budget per part, with the format's default.
 pub(crate) fn max_moves(options: &ExportOptions, default: usize) -> Result<usize, ToolPathError> {
     match options.max_moves {
-        Some(0) => Err(bad_option("max_moves", "must be at least 1, got 0")),
+        Some(0) => Err(bad_option("maxMoves", "must be at least 1, got 0")),
         Some(n) => Ok(n),
         None => Ok(default),
     }
