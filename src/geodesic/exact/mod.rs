@@ -47,7 +47,7 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 mod pieces;
-use pieces::curve_pieces;
+use pieces::{curve_pieces, Piece};
 
 /// Windows processed per mesh edge before the default cap stops the computation.
 pub(crate) const WINDOWS_PER_EDGE: u64 = 64;
@@ -63,6 +63,8 @@ const RAY_TOLERANCE: Real = 1e-12;
 const MIN_WIDTH: Real = 1e-12;
 /// Relative margin of the filter: a window is dropped only when beaten by more than this.
 const FILTER_TOLERANCE: Real = 1e-12;
+/// Angle (radians) by which the shadow of a saddle is widened on each side.
+const SHADOW_ANGLE_TOLERANCE: Real = 1e-9;
 /// Relative excess of the angle sum over 2π above which a vertex is a saddle.
 const FLAT_VERTEX_TOLERANCE: Real = 1e-9;
 
@@ -202,6 +204,10 @@ struct Solver<'a> {
     /// Saddle, boundary or degenerate-face vertex: restarts the propagation when improved.
     pseudo: Vec<bool>,
     degenerate: Vec<bool>,
+    /// Per vertex, the face and direction the path that set its distance arrives from.
+    back: Vec<Option<(u32, Vector3)>>,
+    /// Per vertex reached by a window ray: the face it crossed and where it crossed the edge.
+    via: Vec<Option<(u32, Real)>>,
     heap: BinaryHeap<Item>,
     seq: u64,
     scale: Real,
@@ -243,6 +249,8 @@ impl<'a> Solver<'a> {
         Solver {
             surface,
             dist: vec![Real::INFINITY; nv],
+            back: vec![None; nv],
+            via: vec![None; nv],
             pseudo,
             degenerate,
             heap: BinaryHeap::new(),
@@ -260,11 +268,27 @@ impl<'a> Solver<'a> {
         });
     }
 
-    /// Lowers the distance of `v` to `d`; a pseudo-source vertex (or any vertex if `force`)
-    /// then restarts the propagation. NaN never passes the comparison.
-    fn reach(&mut self, v: usize, d: Real, force: bool) {
+    /// Lowers the distance of `v` to `d`, reached from direction `back` (in face `back.0`,
+    /// pointing back along the path; `None`: unknown or any); a pseudo-source vertex (or any
+    /// vertex if `force`) then restarts the propagation. NaN never passes the comparison.
+    fn reach(&mut self, v: usize, d: Real, force: bool, back: Option<(usize, Vector3)>) {
+        self.reach_via(v, d, force, back, None);
+    }
+
+    /// [`Solver::reach`] by a ray crossing the face `via.0` from the edge opposite `v`, at
+    /// `x = via.1` on that edge (the record that trims later windows there).
+    fn reach_via(
+        &mut self,
+        v: usize,
+        d: Real,
+        force: bool,
+        back: Option<(usize, Vector3)>,
+        via: Option<(usize, Real)>,
+    ) {
         if d < self.dist[v] {
             self.dist[v] = d;
+            self.back[v] = back.map(|(f, dir)| (f as u32, dir));
+            self.via[v] = via.map(|(f, x)| (f as u32, x));
             if self.pseudo[v] || force {
                 self.push(d, Event::Vertex(v as u32));
             }
@@ -364,43 +388,74 @@ impl<'a> Solver<'a> {
 
     /// Source piece `p → q` lying in face `g`: distances of its corners, and windows on its
     /// edges (line windows where the foot point is inside the piece, point windows from
-    /// both ends).
-    fn seed_piece(&mut self, g: usize, p: Point3, q: Point3) {
+    /// its ends where the end is the nearest point of the piece and of its neighbour).
+    fn seed_piece(&mut self, piece: &Piece) {
+        let (g, p, q) = (piece.face, piece.p, piece.q);
         let mesh = self.surface.mesh;
         let t = mesh.triangles()[g];
         for v in t {
             let v = v as usize;
             let x = mesh.positions()[v];
             let at_end = (x - p).norm().min((x - q).norm()) <= ON_LINE_TOLERANCE * self.scale;
-            self.reach(v, segment_distance(&x, &p, &q).0, at_end);
+            let (d, _) = segment_distance(&x, &p, &q);
+            let foot = {
+                let e = q - p;
+                let t = if e.norm_squared() > 0.0 {
+                    ((x - p).dot(&e) / e.norm_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                p + e * t
+            };
+            let back = (d > ON_LINE_TOLERANCE * self.scale).then(|| (g, foot - x));
+            self.reach(v, d, at_end, back);
         }
         if self.degenerate[g] {
             return;
         }
         for k in 0..3 {
+            let pd = mesh.positions()[t[(k + 2) % 3] as usize];
             self.seed_edge(g, k, &|fr: &Frame| {
                 let (p2, q2) = (fr.unfold(&p), fr.unfold(&q));
-                let mut out = vec![(0.0, fr.l, point(p2, 0.0))];
+                // A direction of g's plane in this frame (g lies at y < 0).
+                let w = pd - fr.a;
+                let ng = (w - fr.ex * w.dot(&fr.ex)).try_normalize(0.0);
+                let flat = |d: Vector3| ng.map(|n| [d.dot(&fr.ex), -d.dot(&n)]);
                 let s = [q2[0] - p2[0], q2[1] - p2[1]];
                 let len = s[0].hypot(s[1]);
                 if len <= ON_LINE_TOLERANCE * fr.l {
-                    return out;
+                    return vec![(0.0, fr.l, point(p2, 0.0))];
                 }
-                out.push((0.0, fr.l, point(q2, 0.0)));
                 let s = [s[0] / len, s[1] / len];
-                // Edge points whose foot on the line pq is inside the piece.
-                let (mut lo, mut hi) = if s[0].abs() <= ON_LINE_TOLERANCE {
-                    let tau = (-p2[1] * s[1]) / len;
-                    if (0.0..=1.0).contains(&tau) {
-                        (0.0, fr.l)
-                    } else {
-                        return out;
-                    }
-                } else {
-                    let x0 = p2[0] + p2[1] * s[1] / s[0];
-                    let x1 = p2[0] + (len + p2[1] * s[1]) / s[0];
-                    (x0.min(x1), x0.max(x1))
+                // The foot on the line pq of edge point x is at τ(x) = ((x − p)·s) / |pq|:
+                // p is the nearest point of the piece where τ ≤ 0, q where τ ≥ 1, the line
+                // between (one window each: the distance to a segment).
+                let none = (Real::INFINITY, Real::NEG_INFINITY);
+                let line = match half_line(p2, s, 1.0) {
+                    Some(a) => meet(a, half_line(q2, s, -1.0).unwrap_or(none)),
+                    None => none,
                 };
+                let mut near_p = half_line(p2, s, -1.0).unwrap_or(none);
+                let mut near_q = half_line(q2, s, 1.0).unwrap_or(none);
+                // An end is the nearest point of the neighbouring piece too only where the
+                // neighbour's foot falls beyond it.
+                if let Some(d) = piece.before.and_then(flat) {
+                    near_p = meet(near_p, half_line(p2, d, 1.0).unwrap_or(none));
+                }
+                if let Some(d) = piece.after.and_then(flat) {
+                    near_q = meet(near_q, half_line(q2, d, -1.0).unwrap_or(none));
+                }
+                if !piece.seed_p {
+                    near_p = none;
+                }
+                let mut out = Vec::new();
+                for (range, end) in [(near_p, p2), (near_q, q2)] {
+                    let (lo, hi) = (range.0.max(0.0), range.1.min(fr.l));
+                    if hi - lo > MIN_WIDTH * fr.l {
+                        out.push((lo, hi, point(end, 0.0)));
+                    }
+                }
+                let (mut lo, mut hi) = line;
                 lo = lo.max(0.0);
                 hi = hi.min(fr.l);
                 // The line pq crosses the edge's line: split, the normal flips there.
@@ -443,31 +498,138 @@ impl<'a> Solver<'a> {
     }
 
     /// A pseudo-source at `v`: its neighbours along edges, and a point window on the edge
-    /// opposite `v` in each of its faces.
+    /// opposite `v` in each of its faces, limited to the shadow of the arriving path when
+    /// it is known (see [`Solver::shadow`]).
     fn spawn(&mut self, v: usize) {
         let d = self.dist[v];
         let surface = self.surface;
         let mesh = surface.mesh;
         let pv = mesh.positions()[v];
         for &g in surface.faces_of(v) {
-            let g = g as usize;
-            let t = mesh.triangles()[g];
-            let Some(kv) = t.iter().position(|&x| x as usize == v) else {
-                continue;
-            };
-            for w in [t[(kv + 1) % 3], t[(kv + 2) % 3]] {
+            let t = mesh.triangles()[g as usize];
+            for w in t {
                 let w = w as usize;
                 if w != v {
-                    self.reach(w, d + (mesh.positions()[w] - pv).norm(), false);
+                    let pw = mesh.positions()[w];
+                    self.reach(w, d + (pw - pv).norm(), false, Some((g as usize, pv - pw)));
                 }
             }
+        }
+        let wedges = match self.shadow(v) {
+            Some(w) => w,
+            None => surface
+                .faces_of(v)
+                .iter()
+                .filter_map(|&g| {
+                    let t = mesh.triangles()[g as usize];
+                    let kv = t.iter().position(|&x| x as usize == v)?;
+                    Some((g as usize, (kv + 1) % 3, None))
+                })
+                .collect(),
+        };
+        for (g, k, points) in wedges {
             if self.degenerate[g] {
                 continue;
             }
-            self.seed_edge(g, (kv + 1) % 3, &|fr: &Frame| {
-                vec![(0.0, fr.l, point(fr.unfold(&pv), d))]
+            self.seed_edge(g, k, &|fr: &Frame| {
+                let s = point(fr.unfold(&pv), d);
+                match points {
+                    None => vec![(0.0, fr.l, s)],
+                    Some((x0, x1)) => {
+                        let (a, b) = ((x0 - fr.a).dot(&fr.ex), (x1 - fr.a).dot(&fr.ex));
+                        vec![(a.min(b), a.max(b), s)]
+                    }
+                }
             });
         }
+    }
+
+    /// The shadow of saddle `v`: geodesics bend at a vertex only when both angles between
+    /// the arriving and the leaving direction are at least π (Mitchell, Mount & Papadimitriou
+    /// 1987, Lemma 3.4), so the windows of a pseudo-source need only cover the directions
+    /// whose angle from the arriving path, measured around the fan either way, is ≥ π (ICH
+    /// spawns over the whole fan; this is MMP's restriction). Returns, per face of the fan
+    /// that the shadow enters, the slot of the edge opposite `v` and the two points of that
+    /// edge bounding the shadow; `None` (no restriction) for a vertex on the boundary, with
+    /// a degenerate or non-manifold fan, or with no known arriving direction.
+    #[allow(clippy::type_complexity)]
+    fn shadow(&self, v: usize) -> Option<Vec<(usize, usize, Option<(Point3, Point3)>)>> {
+        let (f0, back) = self.back[v]?;
+        let mesh = self.surface.mesh;
+        let pos = mesh.positions();
+        let pv = pos[v];
+        let degree = self.surface.faces_of(v).len();
+        // Walk the fan from f0: (face, w_in, w_out, angle at the start of the face, angle).
+        let mut fan = Vec::with_capacity(degree);
+        let t0 = mesh.triangles()[f0 as usize];
+        let k0 = t0.iter().position(|&x| x as usize == v)?;
+        let (mut face, mut w_in, mut w_out) = (
+            f0 as usize,
+            t0[(k0 + 1) % 3] as usize,
+            t0[(k0 + 2) % 3] as usize,
+        );
+        let mut total = 0.0;
+        loop {
+            if self.degenerate[face] || fan.len() >= degree {
+                return None;
+            }
+            let alpha = angle_between(&(pos[w_in] - pv), &(pos[w_out] - pv));
+            fan.push((face, w_in, w_out, total, alpha));
+            total += alpha;
+            let t = mesh.triangles()[face];
+            let k = (0..3).find(|&k| {
+                let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                (a == v && b == w_out) || (a == w_out && b == v)
+            })?;
+            let next = self.surface.across(face, k)?;
+            if next == f0 as usize {
+                break;
+            }
+            let tn = mesh.triangles()[next];
+            let new_out = tn
+                .iter()
+                .map(|&x| x as usize)
+                .find(|&x| x != v && x != w_out)?;
+            (face, w_in, w_out) = (next, w_out, new_out);
+        }
+        if fan.len() != degree || total <= 2.0 * std::f64::consts::PI {
+            return None;
+        }
+        let (_, a_in, _, _, alpha0) = fan[0];
+        let phi0 = angle_between(&(pos[a_in] - pv), &back).clamp(0.0, alpha0);
+        let pi = std::f64::consts::PI;
+        let (lo, hi) = (
+            phi0 + pi - SHADOW_ANGLE_TOLERANCE,
+            phi0 + total - pi + SHADOW_ANGLE_TOLERANCE,
+        );
+        let mut out = Vec::new();
+        for &(g, w_in, w_out, start, alpha) in &fan {
+            for shift in [0.0, total] {
+                let (a, b) = ((lo - shift - start).max(0.0), (hi - shift - start).min(alpha));
+                if a > b {
+                    continue;
+                }
+                // Rays from v at angles a, b from v→w_in meet the edge w_in → w_out.
+                let (e_in, e_out) = (pos[w_in] - pv, pos[w_out] - pv);
+                let l_in = e_in.norm();
+                let (ox, oy) = (e_out.dot(&e_in) / l_in, e_out.cross(&e_in).norm() / l_in);
+                let on_edge = |psi: Real| -> Option<Point3> {
+                    let d = [libm::cos(psi), libm::sin(psi)];
+                    let e = [ox - l_in, oy];
+                    let den = cross(d, e);
+                    let lambda = (-cross(d, [l_in, 0.0]) / den).clamp(0.0, 1.0);
+                    lambda
+                        .is_finite()
+                        .then(|| pos[w_in] + (pos[w_out] - pos[w_in]) * lambda)
+                };
+                let t = mesh.triangles()[g];
+                let kv = t.iter().position(|&x| x as usize == v)?;
+                if let (Some(x0), Some(x1)) = (on_edge(a), on_edge(b)) {
+                    out.push((g, (kv + 1) % 3, Some((x0, x1))));
+                }
+            }
+        }
+        Some(out)
     }
 
     /// Propagates window `w` across its face into children on the two far edges.
@@ -489,16 +651,26 @@ impl<'a> Solver<'a> {
             // No window crosses a flat face: reach its far corner along straight lines.
             for x in [w.b0, w.b1] {
                 let d = w.front.at(x, 0.0) + (c[0] - x).hypot(c[1]);
-                self.reach(vc, d, false);
+                self.reach(vc, d, false, None);
             }
             return;
         }
         let tol = RAY_TOLERANCE * l;
+        // The direction from C back along the ray that reaches it, in 3D.
+        let back = {
+            let pc = self.surface.mesh.positions()[vc];
+            let ey = (pc - fr.a - fr.ex * c[0]) / c[1];
+            let b = match w.front {
+                Front::Point { sx, sy, .. } => [sx - c[0], sy - c[1]],
+                Front::Line { ux, uy, .. } => [-ux, -uy],
+            };
+            Some((f, fr.ex * b[0] + ey * b[1]))
+        };
         if let Front::Point { sx, sy, .. } = w.front {
             if sy >= -ON_LINE_TOLERANCE * l {
                 // A source on the edge itself: rays in every direction into the face.
                 if sx >= w.b0 - tol && sx <= w.b1 + tol {
-                    self.reach(vc, w.front.at(c[0], c[1]), false);
+                    self.reach(vc, w.front.at(c[0], c[1]), false, back);
                     self.child(&fr, &w, (k + 2) % 3, [c, [0.0, 0.0]]);
                     self.child(&fr, &w, (k + 1) % 3, [[l, 0.0], c]);
                 }
@@ -513,8 +685,23 @@ impl<'a> Solver<'a> {
         if !xc.is_finite() {
             return;
         }
+        let fc = w.front.at(c[0], c[1]);
         if xc >= w.b0 - tol && xc <= w.b1 + tol {
-            self.reach(vc, w.front.at(c[0], c[1]), false);
+            self.reach_via(vc, fc, false, back, Some((f, xc)));
+        }
+        // One angle, one split (Chen & Han 1990, generalised): when a shorter path reached C
+        // through this face, crossing the edge at q, a ray of this window crossing the edge
+        // beyond q (towards B) and ending on CA meets that path's segment q → C at some Z
+        // (chords of the triangle with interleaved ends), and d(Z) via the other path is
+        // shorter (both distances are 1-Lipschitz, the other is shorter at C): the other
+        // path then beats this window at its end. Symmetrically on CB before q.
+        let (mut left_end, mut right_start) = (w.b1.min(xc), w.b0.max(xc));
+        if let Some((vf, q)) = self.via[vc] {
+            let slack = FILTER_TOLERANCE * fc.max(self.scale);
+            if vf as usize == f && self.dist[vc] < fc - slack {
+                left_end = left_end.min(q);
+                right_start = right_start.max(q);
+            }
         }
         // Where the ray through edge point x meets segment p0 → p1 (parameter in [0, 1]).
         let hit = |x: Real, p0: [Real; 2], p1: [Real; 2]| -> Option<[Real; 2]> {
@@ -524,8 +711,8 @@ impl<'a> Solver<'a> {
             t.is_finite().then(|| [p0[0] + t * e[0], p0[1] + t * e[1]])
         };
         // Left: edge C → A (slot k + 2) gets the rays through [b0, min(b1, xc)].
-        if w.b0 < xc {
-            let x1 = w.b1.min(xc);
+        if w.b0 < left_end {
+            let x1 = left_end;
             let q0 = if w.b0 <= 0.0 {
                 Some([0.0, 0.0])
             } else {
@@ -537,8 +724,8 @@ impl<'a> Solver<'a> {
             }
         }
         // Right: edge B → C (slot k + 1) gets the rays through [max(b0, xc), b1].
-        if w.b1 > xc {
-            let x0 = w.b0.max(xc);
+        if w.b1 > right_start {
+            let x0 = right_start;
             let q0 = if x0 <= xc { Some(c) } else { hit(x0, c, [l, 0.0]) };
             let q1 = if w.b1 >= l {
                 Some([l, 0.0])
@@ -595,6 +782,23 @@ impl<'a> Solver<'a> {
     }
 }
 
+/// The edge points `(x, 0)` with `sign · (x − a)·d ≥ 0` as an x-range (`None` if empty).
+fn half_line(a: [Real; 2], d: [Real; 2], sign: Real) -> Option<(Real, Real)> {
+    let (inf, c) = (Real::INFINITY, -a[1] * d[1] - a[0] * d[0]);
+    // sign · (x·dx + c) ≥ 0.
+    let dx = sign * d[0];
+    let c = sign * c;
+    if dx.abs() <= ON_LINE_TOLERANCE {
+        return (c >= 0.0).then_some((-inf, inf));
+    }
+    let x = -c / dx;
+    Some(if dx > 0.0 { (x, inf) } else { (-inf, x) })
+}
+
+fn meet(a: (Real, Real), b: (Real, Real)) -> (Real, Real) {
+    (a.0.max(b.0), a.1.min(b.1))
+}
+
 fn point(s: [Real; 2], sigma: Real) -> Front {
     Front::Point {
         sx: s[0],
@@ -613,11 +817,11 @@ pub(crate) fn propagate(
 ) -> Result<(Vec<Real>, Stats), GeodesicError> {
     let mut s = Solver::new(surface);
     for &v in &source.vertices {
-        s.reach(v as usize, 0.0, true);
+        s.reach(v as usize, 0.0, true, None);
     }
     for curve in &source.curves {
-        for (g, p, q) in curve_pieces(surface, curve) {
-            s.seed_piece(g, p, q);
+        for piece in curve_pieces(surface, curve) {
+            s.seed_piece(&piece);
         }
     }
     if s.heap.is_empty() {

@@ -11,13 +11,95 @@
 
 use super::super::source::Curve;
 use super::super::surface::Surface;
-use crate::math::{Point3, Real};
+use crate::math::{Point3, Real, Vector3};
 
 /// Slack of a chord crossing a shared edge, relative to the edge (its ends included).
 const CROSSING_SLACK: Real = 1e-9;
 
+/// A straight piece of the source lying in one face, with the directions of its neighbours
+/// at its ends unfolded into its face's plane (`None`: no neighbour, or not unfoldable).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Piece {
+    pub face: usize,
+    pub p: Point3,
+    pub q: Point3,
+    /// Unit direction of the previous piece, arriving at `p`.
+    pub before: Option<Vector3>,
+    /// Unit direction of the next piece, leaving `q`.
+    pub after: Option<Vector3>,
+    /// Whether `p` seeds point windows (not when the previous piece, in the same face,
+    /// already seeds them from the same point).
+    pub seed_p: bool,
+}
+
+/// Straight pieces of a source curve with their neighbours' directions.
+pub(super) fn curve_pieces(surface: &Surface, curve: &Curve) -> Vec<Piece> {
+    let raw = raw_pieces(surface, curve);
+    let mut out: Vec<Piece> = raw
+        .iter()
+        .map(|&(face, p, q)| Piece {
+            face,
+            p,
+            q,
+            before: None,
+            after: None,
+            seed_p: true,
+        })
+        .collect();
+    let n = out.len();
+    let pairs = if curve.closed && n > 1 { n } else { n.saturating_sub(1) };
+    for i in 0..pairs {
+        let j = (i + 1) % n;
+        let (a, b) = (out[i], out[j]);
+        if (a.q - b.p).norm() > 0.0 {
+            continue;
+        }
+        let (da, db) = (a.q - a.p, b.q - b.p);
+        if !(da.norm() > 0.0 && db.norm() > 0.0) {
+            continue;
+        }
+        let (da, db) = (da.normalize(), db.normalize());
+        out[i].after = carry(surface, db, b.face, a.face, &a.q);
+        out[j].before = carry(surface, da, a.face, b.face, &a.q);
+        if a.face == b.face && out[i].after.is_some() {
+            out[j].seed_p = false;
+        }
+    }
+    out
+}
+
+/// Direction `d` in the plane of face `from` expressed in the plane of face `to`, unfolded
+/// about their shared edge (which holds `at`); `None` unless the faces are equal or share an
+/// edge.
+fn carry(surface: &Surface, d: Vector3, from: usize, to: usize, at: &Point3) -> Option<Vector3> {
+    if from == to {
+        return Some(d);
+    }
+    let mesh = surface.mesh;
+    let (tf, tt) = (mesh.triangles()[from], mesh.triangles()[to]);
+    let shared: Vec<u32> = tf.iter().copied().filter(|v| tt.contains(v)).collect();
+    if shared.len() != 2 {
+        return None;
+    }
+    let pos = mesh.positions();
+    let (a, b) = (pos[shared[0] as usize], pos[shared[1] as usize]);
+    let e = (b - a).try_normalize(0.0)?;
+    // The shared point lies on the edge (else the two pieces do not meet there).
+    let off = (at - a) - e * (at - a).dot(&e);
+    if off.norm() > 1e-9 * (b - a).norm() {
+        return None;
+    }
+    let inward = |face: &[u32; 3]| -> Option<Vector3> {
+        let c = face.iter().find(|v| !shared.contains(v))?;
+        let w = pos[*c as usize] - a;
+        (w - e * w.dot(&e)).try_normalize(0.0)
+    };
+    let (n_from, n_to) = (inward(&tf)?, inward(&tt)?);
+    Some(e * d.dot(&e) - n_to * d.dot(&n_from))
+}
+
 /// Straight pieces of a source curve, each lying in one face: `(face, from, to)`.
-pub(super) fn curve_pieces(surface: &Surface, curve: &Curve) -> Vec<(usize, Point3, Point3)> {
+fn raw_pieces(surface: &Surface, curve: &Curve) -> Vec<(usize, Point3, Point3)> {
     let mesh = surface.mesh;
     let n = curve.points.len();
     let mut out = Vec::with_capacity(2 * n);
