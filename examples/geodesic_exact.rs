@@ -61,10 +61,15 @@ fn main() {
     match args.get(1).map(String::as_str) {
         Some("height") => {
             let cell = arg(2, 1.0);
-            let mesh = grid((60.0 / cell) as usize, (50.0 / cell) as usize, false, |u, v| {
-                let (x, y) = (60.0 * u, 50.0 * v);
-                Point3::new(x, y, height(x, y))
-            });
+            let mesh = grid(
+                (60.0 / cell) as usize,
+                (50.0 / cell) as usize,
+                false,
+                |u, v| {
+                    let (x, y) = (60.0 * u, 50.0 * v);
+                    Point3::new(x, y, height(x, y))
+                },
+            );
             let adjacency = FaceAdjacency::new(&mesh);
             let points = (0..=10)
                 .map(|i| Point3::new(30.0, 5.0 * i as Real, height(30.0, 5.0 * i as Real)))
@@ -89,10 +94,15 @@ fn main() {
             let edges = 1.5 * mesh.triangle_count() as Real;
             println!(
                 "height field {cell} mm: {} triangles; exact {te:.3} s, {w} windows ({:.2} per edge); \
-                 mesh {tm:.3} s; mesh − exact max {worst:.4} at {:?}",
+                 mesh {tm:.3} s; |mesh − exact| max {worst:.4} at {:?} (mesh {:.4}, exact {:.4}); \
+                 mesh below exact at {} vertices by up to {:.2e}",
                 mesh.triangle_count(),
                 w as Real / edges,
-                mesh.positions()[at]
+                mesh.positions()[at],
+                m[at],
+                e[at],
+                (0..e.len()).filter(|&v| m[v] < e[v] - 1e-9).count(),
+                (0..e.len()).map(|v| e[v] - m[v]).fold(0.0, Real::max)
             );
         }
         _ => {
@@ -115,7 +125,10 @@ fn main() {
             ];
             let chord = 2.0 * r * (PI / around as Real).sin();
             let s0 = {
-                let (v1x, v1y) = ((2.0 * PI / around as Real).cos(), (2.0 * PI / around as Real).sin());
+                let (v1x, v1y) = (
+                    (2.0 * PI / around as Real).cos(),
+                    (2.0 * PI / around as Real).sin(),
+                );
                 ((a0.cos() - 1.0) * (v1x - 1.0) * r * r + a0.sin() * v1y * r * r) / chord
             };
             let unfolded = move |p: &Point3| {
@@ -146,6 +159,7 @@ fn main() {
             for (name, src, exact) in &cases {
                 for method in [Method::Exact, Method::Mesh] {
                     let (d, t, w) = run(&mesh, &adjacency, src, method);
+
                     let err = mesh
                         .positions()
                         .iter()

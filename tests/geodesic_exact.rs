@@ -382,7 +382,10 @@ fn cylinder_matches_the_unfolding_and_the_mesh_method() {
     let chord = 2.0 * R * libm::sin(PI / n as Real);
     let (v0, v1) = (
         nalgebra::Vector2::new(R, 0.0),
-        nalgebra::Vector2::new(R * libm::cos(2.0 * PI / n as Real), R * libm::sin(2.0 * PI / n as Real)),
+        nalgebra::Vector2::new(
+            R * libm::cos(2.0 * PI / n as Real),
+            R * libm::sin(2.0 * PI / n as Real),
+        ),
     );
     let pa = nalgebra::Vector2::new(R * libm::cos(a0), R * libm::sin(a0));
     let s0 = (pa - v0).dot(&(v1 - v0)) / chord;
@@ -404,7 +407,10 @@ fn cylinder_matches_the_unfolding_and_the_mesh_method() {
         for (v, p) in s.mesh.positions().iter().enumerate() {
             let a = analytic(p);
             if (e.vertex_distance[v] - a).abs() > 1e-6 {
-                eprintln!("DBG v {v} {p:?} exact {} mesh {} analytic {a}", e.vertex_distance[v], m.vertex_distance[v]);
+                eprintln!(
+                    "DBG v {v} {p:?} exact {} mesh {} analytic {a}",
+                    e.vertex_distance[v], m.vertex_distance[v]
+                );
             }
         }
         eprintln!(
@@ -545,15 +551,25 @@ fn check_against_steiner(s: &Shape, e: &DistanceField, source: &[u32], what: &st
         let mut gap: Real = 0.0;
         for (x, y) in e.vertex_distance.iter().zip(&r) {
             // The Steiner graph holds surface paths only: never shorter than the exact one.
-            assert!(*x <= y + 1e-9, "exact {x} above the Steiner bound {y} (k = {k})");
+            assert!(
+                *x <= y + 1e-9,
+                "exact {x} above the Steiner bound {y} (k = {k})"
+            );
             gap = gap.max(y - x);
         }
         eprintln!("bumpy, {what}: Steiner (k = {k}) − exact ≤ {gap:.3e}");
         gaps.push(gap);
     }
     // The bound closes in on the exact distance as k doubles (nested point sets).
-    assert!(gaps[1] < 0.6 * gaps[0] && gaps[2] < 0.6 * gaps[1], "{what}: gaps {gaps:?}");
-    assert!(gaps[2] < 0.01, "{what}: Steiner k = 31 − exact = {}", gaps[2]);
+    assert!(
+        gaps[1] < 0.6 * gaps[0] && gaps[2] < 0.6 * gaps[1],
+        "{what}: gaps {gaps:?}"
+    );
+    assert!(
+        gaps[2] < 0.01,
+        "{what}: Steiner k = 31 − exact = {}",
+        gaps[2]
+    );
 }
 
 #[test]
@@ -568,7 +584,10 @@ fn bumpy_mesh_matches_a_steiner_graph_bound() {
     // A curve source along a row of edges (line windows on a curved mesh).
     let row: Vec<u32> = (2..=12).map(|i| 7 * 15 + i).collect();
     let src = GeodesicSource::Polyline {
-        points: row.iter().map(|&v| s.mesh.positions()[v as usize]).collect(),
+        points: row
+            .iter()
+            .map(|&v| s.mesh.positions()[v as usize])
+            .collect(),
         closed: false,
     };
     let e = distance(&s, &src, Method::Exact);
@@ -606,7 +625,12 @@ fn height_field_exact_against_finer_exact_and_the_mesh_method() {
         refine = refine.max((d - ef.vertex_distance[w]).abs());
     }
     let (mut mesh_err, mut at) = (0.0, 0);
-    for (v, (m, e)) in mc.vertex_distance.iter().zip(&ec.vertex_distance).enumerate() {
+    for (v, (m, e)) in mc
+        .vertex_distance
+        .iter()
+        .zip(&ec.vertex_distance)
+        .enumerate()
+    {
         if (m - e).abs() > mesh_err {
             mesh_err = (m - e).abs();
             at = v;
@@ -637,7 +661,10 @@ fn exact_method_refuses_bad_input() {
     };
     let e = run(&far, &params(Method::Exact));
     assert!(matches!(e, GeodesicError::SourceMissesSurface(_)), "{e}");
-    let e = run(&GeodesicSource::Vertices(vec![u32::MAX]), &params(Method::Exact));
+    let e = run(
+        &GeodesicSource::Vertices(vec![u32::MAX]),
+        &params(Method::Exact),
+    );
     assert!(e.to_string().contains("vertex"), "{e}");
     let src = GeodesicSource::Polyline {
         points: ring(0.0, 16, 0.0),

@@ -83,7 +83,7 @@ pub struct DistanceParams {
     /// lengths.
     pub max_snap_distance: Option<Real>,
     /// Exact method: windows processed at most before [`GeodesicError::LimitExceeded`];
-    /// `None`: 64 per mesh edge plus 2²⁰.
+    /// `None`: `64·√max(1, E/10⁴)` per edge for `E` edges, plus 2²⁰.
     pub max_windows: Option<u64>,
 }
 

@@ -13,6 +13,9 @@ use super::super::source::Curve;
 use super::super::surface::Surface;
 use crate::math::{Point3, Real, Vector3};
 
+/// Pieces shorter than this (in mean edge lengths) do not restrict their neighbours' point
+/// windows.
+const JUNCTION_MIN_LENGTH: Real = 1e-6;
 /// Slack of a chord crossing a shared edge, relative to the edge (its ends included).
 const CROSSING_SLACK: Real = 1e-9;
 
@@ -47,7 +50,11 @@ pub(super) fn curve_pieces(surface: &Surface, curve: &Curve) -> Vec<Piece> {
         })
         .collect();
     let n = out.len();
-    let pairs = if curve.closed && n > 1 { n } else { n.saturating_sub(1) };
+    let pairs = if curve.closed && n > 1 {
+        n
+    } else {
+        n.saturating_sub(1)
+    };
     for i in 0..pairs {
         let j = (i + 1) % n;
         let (a, b) = (out[i], out[j]);
@@ -55,7 +62,9 @@ pub(super) fn curve_pieces(surface: &Surface, curve: &Curve) -> Vec<Piece> {
             continue;
         }
         let (da, db) = (a.q - a.p, b.q - b.p);
-        if !(da.norm() > 0.0 && db.norm() > 0.0) {
+        // The direction of a very short piece is rounding noise: no restriction there.
+        let shortest = JUNCTION_MIN_LENGTH * surface.mean_edge;
+        if !(da.norm() > shortest && db.norm() > shortest) {
             continue;
         }
         let (da, db) = (da.normalize(), db.normalize());
@@ -209,21 +218,21 @@ fn unfold_chain(
     let mesh = surface.mesh;
     let pos = mesh.positions();
     let t0 = mesh.triangles()[chain[0]];
-    let (a, b, c) = (pos[t0[0] as usize], pos[t0[1] as usize], pos[t0[2] as usize]);
+    let (a, b, c) = (
+        pos[t0[0] as usize],
+        pos[t0[1] as usize],
+        pos[t0[2] as usize],
+    );
     let lab = (b - a).norm();
     if !(lab > 0.0) {
         return None;
     }
     let cx = (c - a).dot(&(b - a)) / lab;
     let cy = ((c - a).norm_squared() - cx * cx).max(0.0).sqrt();
-    let mut flat: Vec<(u32, [Real; 2])> = vec![
-        (t0[0], [0.0, 0.0]),
-        (t0[1], [lab, 0.0]),
-        (t0[2], [cx, cy]),
-    ];
-    let at = |flat: &Vec<(u32, [Real; 2])>, v: u32| {
-        flat.iter().rev().find(|e| e.0 == v).map(|e| e.1)
-    };
+    let mut flat: Vec<(u32, [Real; 2])> =
+        vec![(t0[0], [0.0, 0.0]), (t0[1], [lab, 0.0]), (t0[2], [cx, cy])];
+    let at =
+        |flat: &Vec<(u32, [Real; 2])>, v: u32| flat.iter().rev().find(|e| e.0 == v).map(|e| e.1);
     let to_2d = |flat: &Vec<(u32, [Real; 2])>, face: usize, x: &Point3| -> Option<[Real; 2]> {
         let t = mesh.triangles()[face];
         let w = barycentric(x, &mesh.corners(face));
@@ -249,7 +258,11 @@ fn unfold_chain(
         if shared.len() != 2 {
             return None;
         }
-        let (e0, e1, o) = (at(&flat, shared[0])?, at(&flat, shared[1])?, at(&flat, old)?);
+        let (e0, e1, o) = (
+            at(&flat, shared[0])?,
+            at(&flat, shared[1])?,
+            at(&flat, old)?,
+        );
         let d = [e1[0] - e0[0], e1[1] - e0[1]];
         let l = d[0].hypot(d[1]);
         if !(l > 0.0) {
@@ -267,7 +280,10 @@ fn unfold_chain(
         );
         let x = (pn - p0).dot(&(p1 - p0)) / l;
         let y = ((pn - p0).norm_squared() - x * x).max(0.0).sqrt();
-        flat.push((new, [e0[0] + x * ex[0] + y * ey[0], e0[1] + x * ex[1] + y * ey[1]]));
+        flat.push((
+            new,
+            [e0[0] + x * ex[0] + y * ey[0], e0[1] + x * ex[1] + y * ey[1]],
+        ));
         edges.push((shared[0], shared[1], e0, e1));
     }
     let q2 = to_2d(&flat, chain[chain.len() - 1], &q)?;
