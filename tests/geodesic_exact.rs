@@ -394,7 +394,8 @@ fn cylinder_matches_the_unfolding_and_the_mesh_method() {
         let x = i.rem_euclid(n as i64) as Real * chord - s0;
         x.abs().min(n as Real * chord - x)
     };
-    let cases: [(&str, GeodesicSource, &dyn Fn(&Point3) -> Real); 2] = [
+    type Analytic<'a> = &'a dyn Fn(&Point3) -> Real;
+    let cases: [(&str, GeodesicSource, Analytic); 2] = [
         ("ring", ring_src, &|p: &Point3| p.z),
         ("generator", generator, &around),
     ];
@@ -518,8 +519,8 @@ fn steiner_distance(s: &Shape, source: &[u32], k: usize) -> Vec<Real> {
     }
     for (&(a, b), &first) in &edge_id {
         if source.contains(&a) && source.contains(&b) {
-            for n in first..first + k {
-                d[n] = 0.0;
+            for (n, dn) in d.iter_mut().enumerate().skip(first).take(k) {
+                *dn = 0.0;
                 heap.push((Reverse(0u64), n));
             }
         }

@@ -133,6 +133,9 @@ fn cross(a: [Real; 2], b: [Real; 2]) -> Real {
     a[0] * b[1] - a[1] * b[0]
 }
 
+/// A window to seed on an edge: `(b0, b1, front)` in the edge's frame.
+type Seed = (Real, Real, Front);
+
 /// A window on the edge in slot `slot` of `face`, about to cross into `face`.
 #[derive(Clone, Copy, Debug)]
 struct Window {
@@ -374,7 +377,7 @@ impl<'a> Solver<'a> {
 
     /// Seeds a window over `[b0, b1]` of the edge in slot `k` of `g`, crossing into the face
     /// beyond; `make` builds the front in that half-edge's frame.
-    fn seed_edge(&mut self, g: usize, k: usize, make: &dyn Fn(&Frame) -> Vec<(Real, Real, Front)>) {
+    fn seed_edge(&mut self, g: usize, k: usize, make: &dyn Fn(&Frame) -> Vec<Seed>) {
         let Some((h, j)) = self.twin(g, k) else {
             return;
         };
@@ -772,7 +775,7 @@ impl<'a> Solver<'a> {
         let (o, pb, third) = (fr.corner(ia), fr.corner(ib), fr.corner(3 - ia - ib));
         let e = [pb[0] - o[0], pb[1] - o[1]];
         let len = e[0].hypot(e[1]);
-        if !(len > 0.0) {
+        if len.is_nan() || len <= 0.0 {
             return;
         }
         let ex = [e[0] / len, e[1] / len];

@@ -107,8 +107,11 @@ fn carry(surface: &Surface, d: Vector3, from: usize, to: usize, at: &Point3) -> 
     Some(e * d.dot(&e) - n_to * d.dot(&n_from))
 }
 
+/// A piece as `(face, from, to)`.
+type RawPiece = (usize, Point3, Point3);
+
 /// Straight pieces of a source curve, each lying in one face: `(face, from, to)`.
-fn raw_pieces(surface: &Surface, curve: &Curve) -> Vec<(usize, Point3, Point3)> {
+fn raw_pieces(surface: &Surface, curve: &Curve) -> Vec<RawPiece> {
     let mesh = surface.mesh;
     let n = curve.points.len();
     let mut out = Vec::with_capacity(2 * n);
@@ -199,7 +202,7 @@ fn barycentric(p: &Point3, t: &[Point3; 3]) -> [Real; 3] {
     let (d00, d01, d11) = (v0.dot(&v0), v0.dot(&v1), v1.dot(&v1));
     let (d20, d21) = (v2.dot(&v0), v2.dot(&v1));
     let den = d00 * d11 - d01 * d01;
-    if !(den.abs() > 0.0) {
+    if den.is_nan() || den == 0.0 {
         return [1.0, 0.0, 0.0];
     }
     let b = (d11 * d20 - d01 * d21) / den;
@@ -214,7 +217,7 @@ fn unfold_chain(
     chain: &[usize],
     p: Point3,
     q: Point3,
-) -> Option<(Real, Vec<(usize, Point3, Point3)>)> {
+) -> Option<(Real, Vec<RawPiece>)> {
     let mesh = surface.mesh;
     let pos = mesh.positions();
     let t0 = mesh.triangles()[chain[0]];
@@ -224,7 +227,7 @@ fn unfold_chain(
         pos[t0[2] as usize],
     );
     let lab = (b - a).norm();
-    if !(lab > 0.0) {
+    if lab.is_nan() || lab <= 0.0 {
         return None;
     }
     let cx = (c - a).dot(&(b - a)) / lab;
@@ -265,7 +268,7 @@ fn unfold_chain(
         );
         let d = [e1[0] - e0[0], e1[1] - e0[1]];
         let l = d[0].hypot(d[1]);
-        if !(l > 0.0) {
+        if l.is_nan() || l <= 0.0 {
             return None;
         }
         let ex = [d[0] / l, d[1] / l];
@@ -295,7 +298,7 @@ fn unfold_chain(
         // p2 + s·r = e0 + t·(e1 − e0).
         let e = [e1[0] - e0[0], e1[1] - e0[1]];
         let den = cross(r, e);
-        if !(den.abs() > 0.0) {
+        if den.is_nan() || den == 0.0 {
             return None;
         }
         let w = [e0[0] - p2[0], e0[1] - p2[1]];
