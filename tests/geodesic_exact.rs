@@ -217,6 +217,33 @@ fn flat_plate_point_sources_are_euclidean() {
 }
 
 #[test]
+fn degenerate_faces_give_finite_distances() {
+    // A flat plate where one vertex is moved onto the border of its star (two zero-area
+    // faces, one with its far corner between the others, one beyond them) and another onto
+    // its neighbour (a zero-length edge): still a planar tiling, so the distance is Euclidean.
+    let (mut p, t) = grid(12, 10, false, |u, v| Point3::new(24.0 * u, 20.0 * v, 0.0));
+    let id = |i: usize, j: usize| j * 13 + i;
+    p[id(4, 4)] = Point3::new(10.0, 9.0, 0.0);
+    p[id(8, 6)] = p[id(7, 6)];
+    let s = shape(p, t);
+    let c = s.mesh.positions()[id(2, 2)];
+    let f = distance(
+        &s,
+        &GeodesicSource::Vertices(vec![id(2, 2) as u32]),
+        Method::Exact,
+    );
+    let mut worst: Real = 0.0;
+    for (q, d) in s.mesh.positions().iter().zip(&f.vertex_distance) {
+        assert!(d.is_finite(), "vertex at {q:?}: {d}");
+        let e = (q - c).norm();
+        assert!(*d >= e - 1e-9, "below the Euclidean distance at {q:?}");
+        worst = worst.max(d - e);
+    }
+    eprintln!("degenerate plate: exact − Euclidean ≤ {worst:.3e}");
+    assert!(worst < 1e-6, "exact − Euclidean = {worst}");
+}
+
+#[test]
 fn plates_point_sources_unfold_across_the_fold() {
     let s = plates(2.5);
     // A vertex on A and a point inside a face of B; the unfolded plates are convex, so the

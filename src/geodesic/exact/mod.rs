@@ -13,29 +13,36 @@
 //! Input:  active faces, their adjacency, a resolved source (dense on-surface polylines with
 //!         the face of each sample, and vertices).
 //! Output: distance per vertex (`+∞` where unreached), 0 on the source, the exact polyhedral
-//!         distance to the piecewise-linear source curve up to rounding.
-//! Cost:   O(W log W) for W windows processed; W = O(n²) in the worst case for CH/ICH, a few
-//!         to a few tens per edge in practice (the height-field and cylinder tests report it).
-//!         Memory: the queue of pending windows (about the wavefront).
+//!         distance to the source curve (straight in every face it crosses) up to rounding.
+//! Cost:   O(W log W) time for W windows, memory O(V + F) plus the pending queue (about the
+//!         wavefront). W = O(n²) in the worst case for CH/ICH; measured (release build):
+//!         developable meshes 4–6 windows per edge (cylinder, 200k triangles: about 1 s;
+//!         2M triangles: 11–14 s, 250 MB); the steep height field of the tests 22, 41, 74
+//!         windows per edge at 1, 0.5, 0.25 mm edges (0.1 s, 0.9 s, 9 s), i.e. W ≈ n^1.5
+//!         as reported for MMP/ICH on curved meshes.
 //! Deviations:
 //!   - The source is a curve, not points: each piece of the source polyline lying in a face
 //!     seeds *line windows* (a plane wave `u·x + c`, rays parallel to the unit `u`) where the
-//!     foot point of an edge point falls inside the piece, and point windows from its two
-//!     ends; the vertices of the face get their in-plane distance to the piece. A chord
-//!     between samples in two faces sharing an edge is split where it crosses the edge in
-//!     the unfolding of the two faces (no paper).
-//!   - The filter (no paper beyond ICH's idea): a window on edge `AB` is dropped when
+//!     foot point of an edge point falls inside the piece, and point windows from its ends
+//!     only where that end is the nearest point of the piece and of its neighbour (the
+//!     convex side of a bend); the vertices of the face get their in-plane distance to the
+//!     piece (`pieces.rs` cuts the curve into pieces; no paper).
+//!   - The filter (ICH's idea, in a form proven here): a window on edge `AB` is dropped when
 //!     `d(A) + |A b1| < d_w(b1)` or `d(B) + |B b0| < d_w(b0)`. Distance along an edge is
 //!     1-Lipschitz for any window, so either inequality at the far end of the interval
 //!     holds at every point of it: the window never carries a shortest path. It is applied
 //!     when a child is made (with the child's own edge, whose ends include the parent's
-//!     opposite vertex) and again when the window is taken from the queue. ICH's one-angle-
-//!     one-split rule is not used.
+//!     opposite vertex) and again when the window is taken from the queue.
+//!   - Chen & Han's "one angle, one split", generalised to any window crossing the face
+//!     through which a shorter path reached the opposite vertex (see `propagate`), and
+//!     MMP's restriction of a pseudo-source to the shadow of the path that reached it (see
+//!     `pseudo.rs`); ICH spawns pseudo-sources over the whole fan.
 //!   - Degenerate faces (height below `DEGENERATE_HEIGHT_RATIO` of the longest edge) pass no
 //!     windows; their vertices act as pseudo-sources and reach each other along edges. A
-//!     source sample on a vertex makes it a pseudo-source. A sample chord between faces
-//!     that share only a vertex runs through that vertex; between faces that share nothing
-//!     (never at the sampling of `source.rs` on a manifold) its two ends count as points.
+//!     source sample on a vertex makes it a pseudo-source.
+//!   - Rounding: a vertex within `RAY_TOLERANCE` of a window's border ray is reached by it
+//!     (neighbouring windows meet exactly on such rays; without slack a vertex there can fall
+//!     between them).
 //!   - A cap on windows processed (`64·√max(1, E/10⁴)` per edge for `E` edges, plus 2²⁰,
 //!     unless given) and on the queue's memory returns [`GeodesicError::LimitExceeded`].
 
@@ -57,7 +64,7 @@ use pieces::curve_pieces;
 /// stops the computation.
 const WINDOWS_PER_EDGE: Real = 64.0;
 /// Beyond this many edges the per-edge allowance grows as √(edges / CAP_EDGES): window
-/// counts per edge of CH/ICH grow about as √n on curved meshes (measured here: 22, 41, 80
+/// counts per edge of CH/ICH grow about as √n on curved meshes (measured here: 22, 41, 74
 /// per edge on the 1, 0.5, 0.25 mm height field).
 const CAP_EDGES: Real = 1e4;
 /// Windows always allowed on top of the per-edge allowance.
@@ -80,7 +87,7 @@ const FLAT_VERTEX_TOLERANCE: Real = 1e-9;
 /// Statistics of one run.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Stats {
-    /// Windows taken from the queue and propagated (not filtered).
+    /// Windows taken from the queue (those the filter then drops included).
     pub windows: u64,
 }
 
@@ -267,10 +274,19 @@ impl<'a> Solver<'a> {
         let (l, c) = (fr.l, fr.c);
         let vc = fr.v[2];
         if self.degenerate[f] {
-            // No window crosses a flat face: reach its far corner along straight lines.
-            for x in [w.b0, w.b1] {
+            // A flat face is a segment (no paper): its far corner is reached along it, and
+            // the rays pass straight on into the faces beyond its other two edges, which lie
+            // on the same line, over the part of the window each edge covers.
+            for x in [w.b0, w.b1, c[0].clamp(w.b0, w.b1)] {
                 let d = w.front.at(x, 0.0) + (c[0] - x).hypot(c[1]);
                 self.reach(vc, d, false, None);
+            }
+            for (j, ends) in [((k + 2) % 3, [0.0, c[0]]), ((k + 1) % 3, [c[0], l])] {
+                let lo = ends[0].min(ends[1]).max(w.b0);
+                let hi = ends[0].max(ends[1]).min(w.b1);
+                if hi > lo {
+                    self.child(&fr, &w, j, [[lo, 0.0], [hi, 0.0]]);
+                }
             }
             return;
         }
@@ -386,8 +402,14 @@ impl<'a> Solver<'a> {
         }
         let ex = [e[0] / len, e[1] / len];
         let mut ey = [-ex[1], ex[0]];
-        // The face the window comes from lies at y < 0 in the new frame.
-        if dot([third[0] - o[0], third[1] - o[1]], ey) > 0.0 {
+        // The face the window comes from lies at y < 0 in the new frame; a flat face has no
+        // inside: the face beyond lies ahead of the window (y > 0 in the old frame).
+        let flip = if self.degenerate[w.face as usize] {
+            ey[1] < 0.0
+        } else {
+            dot([third[0] - o[0], third[1] - o[1]], ey) > 0.0
+        };
+        if flip {
             ey = [-ey[0], -ey[1]];
         }
         let x = |p: [Real; 2]| dot([p[0] - o[0], p[1] - o[1]], ex);
