@@ -17,7 +17,7 @@ pub(super) enum Front {
 impl Front {
     pub(super) fn at(&self, x: Real, y: Real) -> Real {
         match *self {
-            Front::Point { sx, sy, sigma } => sigma + (x - sx).hypot(y - sy),
+            Front::Point { sx, sy, sigma } => sigma + libm::hypot(x - sx, y - sy),
             Front::Line { ux, uy, c } => ux * x + uy * y + c,
         }
     }
@@ -25,7 +25,7 @@ impl Front {
     /// Smallest distance over `[b0, b1]` on the edge (the queue key).
     pub(super) fn min_on(&self, b0: Real, b1: Real) -> Real {
         match *self {
-            Front::Point { sx, sy, sigma } => sigma + (sx.clamp(b0, b1) - sx).hypot(sy),
+            Front::Point { sx, sy, sigma } => sigma + libm::hypot(sx.clamp(b0, b1) - sx, sy),
             Front::Line { ux, c, .. } => c + (ux * b0).min(ux * b1),
         }
     }

@@ -278,7 +278,7 @@ impl<'a> Solver<'a> {
             // the rays pass straight on into the faces beyond its other two edges, which lie
             // on the same line, over the part of the window each edge covers.
             for x in [w.b0, w.b1, c[0].clamp(w.b0, w.b1)] {
-                let d = w.front.at(x, 0.0) + (c[0] - x).hypot(c[1]);
+                let d = w.front.at(x, 0.0) + libm::hypot(c[0] - x, c[1]);
                 self.reach(vc, d, false, None);
             }
             for (j, ends) in [((k + 2) % 3, [0.0, c[0]]), ((k + 1) % 3, [c[0], l])] {
@@ -396,7 +396,7 @@ impl<'a> Solver<'a> {
         };
         let (o, pb, third) = (fr.corner(ia), fr.corner(ib), fr.corner(3 - ia - ib));
         let e = [pb[0] - o[0], pb[1] - o[1]];
-        let len = e[0].hypot(e[1]);
+        let len = libm::hypot(e[0], e[1]);
         if len.is_nan() || len <= 0.0 {
             return;
         }

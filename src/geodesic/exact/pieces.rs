@@ -267,7 +267,7 @@ fn unfold_chain(
             at(&flat, old)?,
         );
         let d = [e1[0] - e0[0], e1[1] - e0[1]];
-        let l = d[0].hypot(d[1]);
+        let l = libm::hypot(d[0], d[1]);
         if l.is_nan() || l <= 0.0 {
             return None;
         }
@@ -316,5 +316,5 @@ fn unfold_chain(
         from = x;
     }
     pieces.push((chain[chain.len() - 1], from, q));
-    Some((r[0].hypot(r[1]), pieces))
+    Some((libm::hypot(r[0], r[1]), pieces))
 }

@@ -65,7 +65,7 @@ impl Solver<'_> {
                 let ng = (w - fr.ex * w.dot(&fr.ex)).try_normalize(0.0);
                 let flat = |d: Vector3| ng.map(|n| [d.dot(&fr.ex), -d.dot(&n)]);
                 let s = [q2[0] - p2[0], q2[1] - p2[1]];
-                let len = s[0].hypot(s[1]);
+                let len = libm::hypot(s[0], s[1]);
                 if len <= ON_LINE_TOLERANCE * fr.l {
                     return vec![(0.0, fr.l, point(p2, 0.0))];
                 }
