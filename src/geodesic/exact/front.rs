@@ -17,7 +17,7 @@ pub(super) enum Front {
 impl Front {
     pub(super) fn at(&self, x: Real, y: Real) -> Real {
         match *self {
-            Front::Point { sx, sy, sigma } => sigma + libm::hypot(x - sx, y - sy),
+            Front::Point { sx, sy, sigma } => sigma + norm2(x - sx, y - sy),
             Front::Line { ux, uy, c } => ux * x + uy * y + c,
         }
     }
@@ -25,7 +25,7 @@ impl Front {
     /// Smallest distance over `[b0, b1]` on the edge (the queue key).
     pub(super) fn min_on(&self, b0: Real, b1: Real) -> Real {
         match *self {
-            Front::Point { sx, sy, sigma } => sigma + libm::hypot(sx.clamp(b0, b1) - sx, sy),
+            Front::Point { sx, sy, sigma } => sigma + norm2(sx.clamp(b0, b1) - sx, sy),
             Front::Line { ux, c, .. } => c + (ux * b0).min(ux * b1),
         }
     }
@@ -58,6 +58,12 @@ impl Front {
     }
 }
 
+/// Length of `(x, y)` (`sqrt` is exactly rounded, hence identical on every platform; lengths
+/// here are far from overflow).
+pub(super) fn norm2(x: Real, y: Real) -> Real {
+    (x * x + y * y).sqrt()
+}
+
 pub(super) fn dot(a: [Real; 2], b: [Real; 2]) -> Real {
     a[0] * b[0] + a[1] * b[1]
 }
@@ -85,11 +91,13 @@ pub(super) enum Event {
     Vertex(u32),
 }
 
+/// A queue entry: the key, the push order, and where the event waits (a small entry keeps
+/// the heap's moves cheap).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Item {
     pub(super) key: Real,
     pub(super) seq: u64,
-    pub(super) event: Event,
+    pub(super) slot: u32,
 }
 impl PartialEq for Item {
     fn eq(&self, o: &Self) -> bool {
@@ -155,5 +163,65 @@ pub(super) fn point(s: [Real; 2], sigma: Real) -> Front {
         sx: s[0],
         sy: s[1].min(0.0),
         sigma,
+    }
+}
+
+/// Buckets kept at most; keys beyond the last bucket wait in it.
+const MAX_BUCKETS: usize = 1 << 22;
+
+/// A priority queue in the same order as one binary heap (key, then push order), built as
+/// bands of keys `width` wide: only the band being processed is a heap, later bands are
+/// plain lists heapified when reached. Keys never go below the band being processed
+/// (children are never nearer than their parent), so the order is exactly the heap's, with
+/// a small heap that stays in cache (no paper: a two-level bucket queue).
+pub(super) struct Queue {
+    width: Real,
+    current: usize,
+    near: std::collections::BinaryHeap<Item>,
+    bands: Vec<Vec<Item>>,
+    len: usize,
+}
+
+impl Queue {
+    /// An empty queue with bands `width` wide (> 0).
+    pub(super) fn new(width: Real) -> Self {
+        Queue {
+            width,
+            current: 0,
+            near: std::collections::BinaryHeap::new(),
+            bands: Vec::new(),
+            len: 0,
+        }
+    }
+
+    pub(super) fn len(&self) -> usize {
+        self.len
+    }
+
+    pub(super) fn push(&mut self, item: Item) {
+        self.len += 1;
+        // Negative or NaN keys land in band 0; huge ones in the last band.
+        let band = ((item.key / self.width) as usize).min(MAX_BUCKETS - 1);
+        if band <= self.current {
+            self.near.push(item);
+        } else {
+            if self.bands.len() <= band {
+                self.bands.resize_with(band + 1, Vec::new);
+            }
+            self.bands[band].push(item);
+        }
+    }
+
+    pub(super) fn pop(&mut self) -> Option<Item> {
+        // Each round moves `current` forward: at most `bands.len()` rounds.
+        loop {
+            if let Some(item) = self.near.pop() {
+                self.len -= 1;
+                return Some(item);
+            }
+            let next = (self.current + 1..self.bands.len()).find(|&b| !self.bands[b].is_empty())?;
+            self.current = next;
+            self.near = std::mem::take(&mut self.bands[next]).into();
+        }
     }
 }

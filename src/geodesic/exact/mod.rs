@@ -50,14 +50,13 @@ use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
 use super::source::ResolvedSource;
 use super::surface::Surface;
 use crate::math::{angle_between, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
-use std::collections::BinaryHeap;
 
 mod front;
 mod pieces;
 mod pseudo;
 mod seed;
 
-use front::{cross, dot, Event, Frame, Front, Item, Window};
+use front::{cross, dot, norm2, Event, Frame, Front, Item, Queue, Window};
 use pieces::curve_pieces;
 
 /// Windows processed per mesh edge (on meshes up to `CAP_EDGES` edges) before the default cap
@@ -69,6 +68,9 @@ const WINDOWS_PER_EDGE: Real = 64.0;
 const CAP_EDGES: Real = 1e4;
 /// Windows always allowed on top of the per-edge allowance.
 const WINDOW_CAP_BASE: u64 = 1 << 20;
+/// Width of a band of the window queue, in mean edge lengths (speed only: the order is the
+/// same for any width).
+const QUEUE_BAND: Real = 1.0 / 32.0;
 /// Memory of the pending-window queue allowed, bytes.
 const MAX_QUEUE_BYTES: usize = 1 << 30;
 /// A point source closer than this (relative to the edge length) to an edge's line lies on it.
@@ -101,7 +103,10 @@ struct Solver<'a> {
     back: Vec<Option<(u32, Vector3)>>,
     /// Per vertex reached by a window ray: the face it crossed and where it crossed the edge.
     via: Vec<Option<(u32, Real)>>,
-    heap: BinaryHeap<Item>,
+    heap: Queue,
+    /// The events the heap entries point to, and the free places among them.
+    events: Vec<Event>,
+    free: Vec<u32>,
     seq: u64,
     scale: Real,
 }
@@ -146,7 +151,9 @@ impl<'a> Solver<'a> {
             via: vec![None; nv],
             pseudo,
             degenerate,
-            heap: BinaryHeap::new(),
+            heap: Queue::new((QUEUE_BAND * surface.mean_edge).max(Real::MIN_POSITIVE)),
+            events: Vec::new(),
+            free: Vec::new(),
             seq: 0,
             scale: surface.mean_edge.max(Real::MIN_POSITIVE),
         }
@@ -154,11 +161,28 @@ impl<'a> Solver<'a> {
 
     fn push(&mut self, key: Real, event: Event) {
         self.seq += 1;
+        let slot = match self.free.pop() {
+            Some(i) => {
+                self.events[i as usize] = event;
+                i
+            }
+            None => {
+                self.events.push(event);
+                (self.events.len() - 1) as u32
+            }
+        };
         self.heap.push(Item {
             key,
             seq: self.seq,
-            event,
+            slot,
         });
+    }
+
+    /// The next event and its key, in key order.
+    fn pop(&mut self) -> Option<(Real, Event)> {
+        let item = self.heap.pop()?;
+        self.free.push(item.slot);
+        Some((item.key, self.events[item.slot as usize]))
     }
 
     /// Lowers the distance of `v` to `d`, reached from direction `back` (in face `back.0`,
@@ -278,7 +302,7 @@ impl<'a> Solver<'a> {
             // the rays pass straight on into the faces beyond its other two edges, which lie
             // on the same line, over the part of the window each edge covers.
             for x in [w.b0, w.b1, c[0].clamp(w.b0, w.b1)] {
-                let d = w.front.at(x, 0.0) + libm::hypot(c[0] - x, c[1]);
+                let d = w.front.at(x, 0.0) + norm2(c[0] - x, c[1]);
                 self.reach(vc, d, false, None);
             }
             for (j, ends) in [((k + 2) % 3, [0.0, c[0]]), ((k + 1) % 3, [c[0], l])] {
@@ -292,8 +316,8 @@ impl<'a> Solver<'a> {
         }
         let tol = RAY_TOLERANCE * l;
         // The direction from C back along the ray that reaches it, in 3D.
-        let back = {
-            let pc = self.surface.mesh.positions()[vc];
+        let pc = self.surface.mesh.positions()[vc];
+        let back = || {
             let ey = (pc - fr.a - fr.ex * c[0]) / c[1];
             let b = match w.front {
                 Front::Point { sx, sy, .. } => [sx - c[0], sy - c[1]],
@@ -305,7 +329,8 @@ impl<'a> Solver<'a> {
             if sy >= -ON_LINE_TOLERANCE * l {
                 // A source on the edge itself: rays in every direction into the face.
                 if sx >= w.b0 - tol && sx <= w.b1 + tol {
-                    self.reach(vc, w.front.at(c[0], c[1]), false, back);
+                    let (d, back) = (w.front.at(c[0], c[1]), back());
+                    self.reach(vc, d, false, back);
                     self.child(&fr, &w, (k + 2) % 3, [c, [0.0, 0.0]]);
                     self.child(&fr, &w, (k + 1) % 3, [[l, 0.0], c]);
                 }
@@ -321,8 +346,8 @@ impl<'a> Solver<'a> {
             return;
         }
         let fc = w.front.at(c[0], c[1]);
-        if xc >= w.b0 - tol && xc <= w.b1 + tol {
-            self.reach_via(vc, fc, false, back, Some((f, xc)));
+        if xc >= w.b0 - tol && xc <= w.b1 + tol && fc < self.dist[vc] {
+            self.reach_via(vc, fc, false, back(), Some((f, xc)));
         }
         // One angle, one split (Chen & Han 1990, generalised): when a shorter path reached C
         // through this face, crossing the edge at q, a ray of this window crossing the edge
@@ -396,7 +421,7 @@ impl<'a> Solver<'a> {
         };
         let (o, pb, third) = (fr.corner(ia), fr.corner(ib), fr.corner(3 - ia - ib));
         let e = [pb[0] - o[0], pb[1] - o[1]];
-        let len = libm::hypot(e[0], e[1]);
+        let len = norm2(e[0], e[1]);
         if len.is_nan() || len <= 0.0 {
             return;
         }
@@ -448,7 +473,7 @@ pub(crate) fn propagate(
             s.seed_piece(&piece);
         }
     }
-    if s.heap.is_empty() {
+    if s.heap.len() == 0 {
         return Err(GeodesicError::SourceMissesSurface(
             "no window could be seeded from the source".into(),
         ));
@@ -457,7 +482,7 @@ pub(crate) fn propagate(
     let growth = (edges as Real / CAP_EDGES).sqrt().max(1.0);
     let cap =
         max_windows.unwrap_or((WINDOWS_PER_EDGE * growth * edges as Real) as u64 + WINDOW_CAP_BASE);
-    let max_queue = MAX_QUEUE_BYTES / std::mem::size_of::<Item>();
+    let max_queue = MAX_QUEUE_BYTES / (std::mem::size_of::<Item>() + std::mem::size_of::<Event>());
     let active_vertices = (0..surface.mesh.vertex_count())
         .filter(|&v| !surface.faces_of(v).is_empty())
         .count()
@@ -465,7 +490,7 @@ pub(crate) fn propagate(
     let mut stats = Stats::default();
     let mut popped = 0u64;
     // Each pop processes one event; events are bounded by the cap below, so the loop ends.
-    while let Some(item) = s.heap.pop() {
+    while let Some((key, event)) = s.pop() {
         popped += 1;
         if popped > cap {
             return Err(GeodesicError::LimitExceeded(format!(
@@ -482,11 +507,11 @@ pub(crate) fn propagate(
             let reached = s.dist.iter().filter(|d| d.is_finite()).count();
             progress("distance", reached as f64 / active_vertices as f64);
         }
-        match item.event {
+        match event {
             Event::Vertex(v) => {
                 // A pseudo-source improved later has a newer event; a forced one (a source
                 // vertex) restarts in any case.
-                if s.dist[v as usize] >= item.key || !s.pseudo[v as usize] {
+                if s.dist[v as usize] >= key || !s.pseudo[v as usize] {
                     s.spawn(v as usize);
                 }
             }

@@ -11,6 +11,7 @@
 
 use super::super::source::Curve;
 use super::super::surface::Surface;
+use super::front::norm2;
 use crate::math::{Point3, Real, Vector3};
 
 /// Pieces shorter than this (in mean edge lengths) do not restrict their neighbours' point
@@ -267,7 +268,7 @@ fn unfold_chain(
             at(&flat, old)?,
         );
         let d = [e1[0] - e0[0], e1[1] - e0[1]];
-        let l = libm::hypot(d[0], d[1]);
+        let l = norm2(d[0], d[1]);
         if l.is_nan() || l <= 0.0 {
             return None;
         }
@@ -316,5 +317,5 @@ fn unfold_chain(
         from = x;
     }
     pieces.push((chain[chain.len() - 1], from, q));
-    Some((libm::hypot(r[0], r[1]), pieces))
+    Some((norm2(r[0], r[1]), pieces))
 }

@@ -2,7 +2,7 @@
 //! foot falls inside a piece, point windows from its ends where an end is the nearest point).
 
 use super::super::surface::segment_distance;
-use super::front::{dot, half_line, meet, point, Frame, Front, Seed, Window};
+use super::front::{dot, half_line, meet, norm2, point, Frame, Front, Seed, Window};
 use super::pieces::Piece;
 use super::{Solver, MIN_WIDTH, ON_LINE_TOLERANCE};
 use crate::math::{Real, Vector3};
@@ -65,7 +65,7 @@ impl Solver<'_> {
                 let ng = (w - fr.ex * w.dot(&fr.ex)).try_normalize(0.0);
                 let flat = |d: Vector3| ng.map(|n| [d.dot(&fr.ex), -d.dot(&n)]);
                 let s = [q2[0] - p2[0], q2[1] - p2[1]];
-                let len = libm::hypot(s[0], s[1]);
+                let len = norm2(s[0], s[1]);
                 if len <= ON_LINE_TOLERANCE * fr.l {
                     return vec![(0.0, fr.l, point(p2, 0.0))];
                 }
