@@ -14,12 +14,13 @@
 //!         the face of each sample, and vertices).
 //! Output: distance per vertex (`+∞` where unreached), 0 on the source, the exact polyhedral
 //!         distance to the source curve (straight in every face it crosses) up to rounding.
-//! Cost:   O(W log W) time for W windows, memory O(V + F) plus the pending queue (about the
-//!         wavefront). W = O(n²) in the worst case for CH/ICH; measured (release build):
-//!         developable meshes 4–6 windows per edge (cylinder, 200k triangles: about 1 s;
-//!         2M triangles: 11–14 s, 250 MB); the steep height field of the tests 22, 41, 74
-//!         windows per edge at 1, 0.5, 0.25 mm edges (0.1 s, 0.9 s, 9 s), i.e. W ≈ n^1.5
-//!         as reported for MMP/ICH on curved meshes.
+//! Cost:   O(W log W) time for W windows, memory O(V + F) plus the pending windows (about
+//!         the wavefront). W = O(n²) in the worst case for CH/ICH; measured (native release
+//!         build, `examples/geodesic_exact.rs`): developable meshes 4–6 windows per edge
+//!         (cylinder ring or generator source, 200k triangles: 0.5–0.8 s; 2M triangles: 11 s,
+//!         250 MB); the steep height field of the tests 22, 40, 74 windows per edge at 1,
+//!         0.5, 0.25 mm edges (0.1, 0.6, 9 s), i.e. W ≈ n^1.5 as reported for MMP/ICH on
+//!         curved meshes. About ten times the unfolding method's time.
 //! Deviations:
 //!   - The source is a curve, not points: each piece of the source polyline lying in a face
 //!     seeds *line windows* (a plane wave `u·x + c`, rays parallel to the unit `u`) where the
