@@ -372,6 +372,86 @@ fn cube_corner_paths_go_around_the_corner() {
     }
 }
 
+/// A saddle: six planar sectors of 75° around a vertex (total angle 450°), pleated up and
+/// down; `m` triangles a sector around, rings of radius 1..=12. Returns the shape and each
+/// vertex's intrinsic polar coordinates (radius, angle).
+fn saddle(m: usize) -> (Shape, Vec<(Real, Real)>) {
+    let beta = 75.0 * PI / 180.0;
+    // Unit rays d_i at 75° from their neighbours, alternately above and below z = 0.
+    let c2 = (1.0 + libm::cos(beta)) / 1.5;
+    let (c, s) = (c2.sqrt(), (1.0 - c2).sqrt());
+    let d: Vec<nalgebra::Vector3<Real>> = (0..6)
+        .map(|i| {
+            let a = PI * i as Real / 3.0;
+            let z = if i % 2 == 0 { s } else { -s };
+            nalgebra::Vector3::new(c * libm::cos(a), c * libm::sin(a), z)
+        })
+        .collect();
+    let around = 6 * m;
+    let mut pos = vec![Point3::origin()];
+    let mut polar = vec![(0.0, 0.0)];
+    for j in 1..=12 {
+        let r = j as Real;
+        for a in 0..around {
+            let (sec, t) = (a / m, (a % m) as Real / m as Real);
+            let (d0, d1) = (d[sec], d[(sec + 1) % 6]);
+            let perp = (d1 - d0 * d0.dot(&d1)).normalize();
+            let dir = d0 * libm::cos(t * beta) + perp * libm::sin(t * beta);
+            pos.push(Point3::from(dir * r));
+            polar.push((r, a as Real * beta / m as Real));
+        }
+    }
+    let id = |j: usize, a: usize| (1 + (j - 1) * around + a % around) as u32;
+    let mut tri = Vec::new();
+    for a in 0..around {
+        tri.push([0, id(1, a), id(1, a + 1)]);
+        for j in 1..12 {
+            tri.push([id(j, a), id(j + 1, a), id(j + 1, a + 1)]);
+            tri.push([id(j, a), id(j + 1, a + 1), id(j, a + 1)]);
+        }
+    }
+    (shape(pos, tri), polar)
+}
+
+#[test]
+fn saddle_cone_paths_bend_at_the_vertex_beyond_pi() {
+    let (s, polar) = saddle(6);
+    let total = 6.0 * 75.0 * PI / 180.0;
+    // Every sector is planar: the intrinsic angle of each ray pair is 75°.
+    let p = (1 + 2 * 36) as u32; // ring 3, angle 0
+    let (rp, tp) = polar[p as usize];
+    let f = distance(&s, &GeodesicSource::Vertices(vec![p]), Method::Exact);
+    check_field(&s, &f.vertex_distance);
+    let (mut worst, mut bent) = (0.0 as Real, 0);
+    for (v, &(r, t)) in polar.iter().enumerate() {
+        if r > 6.0 {
+            continue; // the outer boundary is a polygon: keep to the disk it contains
+        }
+        let mut phi = (t - tp).abs() % total;
+        phi = phi.min(total - phi);
+        // On a cone of angle 450°: straight in the unfolding below π, through the apex beyond.
+        let exact = if phi < PI {
+            (r * r + rp * rp - 2.0 * r * rp * libm::cos(phi))
+                .max(0.0)
+                .sqrt()
+        } else {
+            bent += 1;
+            r + rp
+        };
+        worst = worst.max((f.vertex_distance[v] - exact).abs() / exact.max(1.0));
+    }
+    let m = distance(&s, &GeodesicSource::Vertices(vec![p]), Method::Mesh);
+    eprintln!(
+        "saddle: exact vs analytic {worst:.3e} (relative), mesh vs exact {:.3e}",
+        max_difference(&f.vertex_distance, &m.vertex_distance)
+    );
+    assert!(
+        bent > 10,
+        "the test reaches the shadow of the apex ({bent} vertices)"
+    );
+    assert!(worst < REL, "saddle: {worst}");
+}
+
 fn ring(z: Real, n: usize, phase: Real) -> Vec<Point3> {
     (0..n)
         .map(|i| {
