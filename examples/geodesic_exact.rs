@@ -95,14 +95,18 @@ fn main() {
             println!(
                 "height field {cell} mm: {} triangles; exact {te:.3} s, {w} windows ({:.2} per edge); \
                  mesh {tm:.3} s; |mesh − exact| max {worst:.4} at {:?} (mesh {:.4}, exact {:.4}); \
-                 mesh below exact at {} vertices by up to {:.2e}",
+                 mesh below exact at {} vertices by up to {:.2e}; mean |mesh − exact| {:.4}, \
+                 {} of {} vertices off by more than 0.1",
                 mesh.triangle_count(),
                 w as Real / edges,
                 mesh.positions()[at],
                 m[at],
                 e[at],
                 (0..e.len()).filter(|&v| m[v] < e[v] - 1e-9).count(),
-                (0..e.len()).map(|v| e[v] - m[v]).fold(0.0, Real::max)
+                (0..e.len()).map(|v| e[v] - m[v]).fold(0.0, Real::max),
+                (0..e.len()).map(|v| (e[v] - m[v]).abs()).sum::<Real>() / e.len() as Real,
+                (0..e.len()).filter(|&v| (e[v] - m[v]).abs() > 0.1).count(),
+                e.len()
             );
         }
         _ => {

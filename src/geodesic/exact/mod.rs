@@ -18,9 +18,9 @@
 //!         the wavefront). W = O(n²) in the worst case for CH/ICH; measured (native release
 //!         build, `examples/geodesic_exact.rs`): developable meshes 4–6 windows per edge
 //!         (cylinder ring or generator source, 200k triangles: 0.5–0.8 s; 2M triangles: 11 s,
-//!         250 MB); the steep height field of the tests 22, 40, 74 windows per edge at 1,
-//!         0.5, 0.25 mm edges (0.1, 0.6, 9 s), i.e. W ≈ n^1.5 as reported for MMP/ICH on
-//!         curved meshes. About ten times the unfolding method's time.
+//!         250 MB); the steep height field of the tests 22, 40, 76 windows per edge at 1,
+//!         0.5, 0.25 mm edges (0.1, 0.6–1.5, 7–9 s), i.e. W ≈ n^1.5 as reported for MMP/ICH
+//!         on curved meshes. About ten times the unfolding method's time on a cylinder.
 //! Deviations:
 //!   - The source is a curve, not points: each piece of the source polyline lying in a face
 //!     seeds *line windows* (a plane wave `u·x + c`, rays parallel to the unit `u`) where the
@@ -64,7 +64,7 @@ use pieces::curve_pieces;
 /// stops the computation.
 const WINDOWS_PER_EDGE: Real = 64.0;
 /// Beyond this many edges the per-edge allowance grows as √(edges / CAP_EDGES): window
-/// counts per edge of CH/ICH grow about as √n on curved meshes (measured here: 22, 41, 74
+/// counts per edge of CH/ICH grow about as √n on curved meshes (measured here: 22, 40, 76
 /// per edge on the 1, 0.5, 0.25 mm height field).
 const CAP_EDGES: Real = 1e4;
 /// Windows always allowed on top of the per-edge allowance.
