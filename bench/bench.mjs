@@ -17,7 +17,7 @@
 // Geodesic cases: an open cylinder R 50 mm × 120 mm (the paper's model 2) with the bottom
 // ring as source, where the exact distance is z, and a wavy height field z = A·sin(2πx/λ)
 // extruded along y with the edge x = 0 as source, where it is the arc length of the profile;
-// distance + iso-paths (spacing 10 mm) + tool path by both methods (voxel edge
+// distance + iso-paths (spacing 10 mm) + tool path by the mesh, exact and voxel methods (voxel edge
 // GEODESIC_VOXEL mm, default 0.25), with time, WebAssembly memory and the largest error of the
 // path points against the analytic distance. `npm run bench -- geodesic` runs only those.
 import { execFileSync } from 'node:child_process';
@@ -352,7 +352,7 @@ if (geodesicArg > 0) {
       ' (exact: z), wave z = 8 sin(2πx/40) 60 × 50 mm from x = 0 (exact: arc length)');
     console.log('shape     triangles  method  distance ms  isoPaths ms  toolPath ms  paths  closed  max err mm  mean err mm     voxels  voxel MiB  wasm MiB');
     for (const [shape, size] of GEODESIC_CASES) {
-      for (const method of ['mesh', 'voxel']) {
+      for (const method of ['mesh', 'exact', 'voxel']) {
         const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
           fileURLToPath(import.meta.url), '--geodesic', shape, String(size), method], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
         const r = JSON.parse(out);

@@ -43,6 +43,8 @@ pub struct DistanceField {
     pub max_distance: Real,
     /// Samples of the resolved source (curve points + vertices).
     pub source_samples: usize,
+    /// Windows propagated (exact method; 0 for the others).
+    pub windows: u64,
     subset: Option<Vec<u32>>,
 }
 
@@ -74,11 +76,25 @@ pub fn geodesic_distance(
     // The voxel method seeds its own voxels L/2 apart along these samples.
     let step = surface.mean_edge / SAMPLES_PER_EDGE;
     let resolved = resolve(&surface, &grid, source, step, max_snap)?;
+    let mut windows = 0;
     let (vertex_distance, voxels) = match params.method {
         Method::Mesh => (
             super::unfolding::propagate(&surface, &resolved, progress)?,
             None,
         ),
+        Method::Exact => {
+            if params.max_windows == Some(0) {
+                return Err(GeodesicError::BadParam {
+                    name: "max_windows",
+                    value: 0.0,
+                    why: "must be > 0",
+                });
+            }
+            let (d, stats) =
+                super::exact::propagate(&surface, &resolved, params.max_windows, progress)?;
+            windows = stats.windows;
+            (d, None)
+        }
         Method::Voxel => {
             let mut field = voxelise(&surface, voxel_size, params.max_voxel_bytes, progress)?;
             voxel_propagate(&mut field, &resolved, &surface, progress)?;
@@ -105,6 +121,7 @@ pub fn geodesic_distance(
         voxels,
         max_distance,
         source_samples: resolved.sample_count(),
+        windows,
         subset: params.faces.clone(),
     })
 }
@@ -184,10 +201,7 @@ impl DistanceField {
             link_speed: params.link_speed,
             notes: vec![format!(
                 "geodesic passes: {} method, spacing {}, {} passes",
-                match self.method {
-                    Method::Mesh => "mesh",
-                    Method::Voxel => "voxel",
-                },
+                self.method.name(),
                 params.spacing,
                 ordered.len()
             )],

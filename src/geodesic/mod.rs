@@ -5,6 +5,7 @@
 //! Entry point: [`geodesic_distance`] → [`DistanceField`] → [`DistanceField::iso_lines`] /
 //! [`DistanceField::tool_path`].
 
+mod exact;
 mod field;
 mod iso_lines;
 mod params;

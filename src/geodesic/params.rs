@@ -53,6 +53,19 @@ pub enum Method {
     Mesh,
     /// The paper's voxel front propagation (Li & Zhang 2021, steps 1–3).
     Voxel,
+    /// Exact polyhedral distance by window propagation (Xin & Wang 2009, ICH).
+    Exact,
+}
+
+impl Method {
+    /// The method's name as the JavaScript API spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Mesh => "mesh",
+            Method::Voxel => "voxel",
+            Method::Exact => "exact",
+        }
+    }
 }
 
 /// Parameters of [`geodesic_distance`](super::geodesic_distance).
@@ -69,6 +82,9 @@ pub struct DistanceParams {
     /// Source points farther than this from the surface are refused; `None`: 5 mean edge
     /// lengths.
     pub max_snap_distance: Option<Real>,
+    /// Exact method: windows processed at most before [`GeodesicError::LimitExceeded`];
+    /// `None`: `64·√max(1, E/10⁴)` per edge for `E` edges, plus 2²⁰.
+    pub max_windows: Option<u64>,
 }
 
 impl Default for DistanceParams {
@@ -79,6 +95,7 @@ impl Default for DistanceParams {
             max_voxel_bytes: 1 << 30,
             faces: None,
             max_snap_distance: None,
+            max_windows: None,
         }
     }
 }

@@ -27,9 +27,10 @@ export type GeodesicSource =
   | { vertices: Uint32Array | number[] }
   | { boundaryOf: "mesh" | number; loop?: number }
   | { plane: { point: [number, number, number]; normal: [number, number, number] } };
-/** method "mesh" (default, unfolded wavefronts) or "voxel" (the paper); voxelSize in the
+/** method "mesh" (default, unfolded wavefronts), "voxel" (the paper) or "exact" (window
+ *  propagation, exact polyhedral distance); voxelSize in the
  *  file's unit (default mean edge / 4); faces: restrict to these triangles (a patch). */
-export interface GeodesicParams { method?: "mesh" | "voxel"; voxelSize?: number; faces?: Uint32Array | number[] }
+export interface GeodesicParams { method?: "mesh" | "voxel" | "exact"; voxelSize?: number; faces?: Uint32Array | number[] }
 /** Path options: pointSpacing (default spacing / 4), maxLevel (levels 1..maxLevel), order
  *  (default "zigzag"), speed / linkSpeed (file unit per s; defaults 10 and 100). With
  *  spacing null, beadWidth × overlapFactor gives it (the paper: 6.4 × 0.738). */
@@ -185,11 +186,11 @@ fn params_from_js(value: &JsValue) -> Result<DistanceParams, JsError> {
     let Some(r) = ParamReader::optional_argument(value, "geodesic parameter", PARAM_KEYS)? else {
         return Ok(params);
     };
-    if let Some(m) = r.optional_choice("method", &["mesh", "voxel"])? {
-        params.method = if m == "voxel" {
-            Method::Voxel
-        } else {
-            Method::Mesh
+    if let Some(m) = r.optional_choice("method", &["mesh", "voxel", "exact"])? {
+        params.method = match m {
+            "voxel" => Method::Voxel,
+            "exact" => Method::Exact,
+            _ => Method::Mesh,
         };
     }
     params.voxel_size = r.optional_number("voxelSize")?;
@@ -316,13 +317,10 @@ pub struct DistanceField {
 
 #[wasm_bindgen]
 impl DistanceField {
-    /// `"mesh"` or `"voxel"`.
+    /// `"mesh"`, `"voxel"` or `"exact"`.
     #[wasm_bindgen(getter)]
     pub fn method(&self) -> String {
-        match self.inner.method {
-            Method::Mesh => "mesh".into(),
-            Method::Voxel => "voxel".into(),
-        }
+        self.inner.method.name().into()
     }
 
     /// Largest finite distance, file unit.

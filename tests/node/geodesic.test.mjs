@@ -1,4 +1,4 @@
-// Mesh.geodesicDistance from the built wasm package in Node: every source form, both methods,
+// Mesh.geodesicDistance from the built wasm package in Node: every source form, the methods,
 // iso-path heights on a cylinder against the analytic distance (a ring source at the bottom:
 // distance = z), the ToolPath exports, the TypeScript names, and errors naming bad input.
 import { test } from 'node:test';
@@ -103,6 +103,20 @@ test('a ring source gives closed paths at z = 10k (mesh method: error < 1e-6 mm)
   }
   assert.ok(heightError(paths, 10) < 1e-6, `height error ${heightError(paths, 10)}`);
   assert.ok(stages.size >= 1, 'progress was reported');
+  field.free();
+});
+
+test('the exact method gives the distance z to rounding, and its circles', () => {
+  const field = mesh.geodesicDistance(ringSource, { method: 'exact' });
+  assert.equal(field.method, 'exact');
+  const d = field.vertexDistance();
+  const pos = mesh.positions();
+  for (let v = 0; v < d.length; v++) assert.ok(Math.abs(d[v] - pos[3 * v + 2]) < 1e-9, `vertex ${v}`);
+  // Level 12 runs along the top boundary itself (z = 120): left out.
+  const paths = field.isoPaths(10).filter((p) => p.level <= 11);
+  assert.deepEqual(paths.map((p) => p.level), [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11]);
+  assert.ok(paths.every((p) => p.closed));
+  assert.ok(heightError(paths, 10) < 1e-9, `height error ${heightError(paths, 10)}`);
   field.free();
 });
 
@@ -236,7 +250,7 @@ test('bad input throws an Error naming it and the mesh keeps working', () => {
   refuses(() => mesh.geodesicDistance({ plane: { point: [0, 0] , normal: [0, 0, 1] } }), /^plane\.point must be three numbers/);
   refuses(() => mesh.geodesicDistance({ plane: { point: [0, 0, 0], normal: [0, 0, 1], up: 1 } }), /^unknown geodesic source 'plane\.up'$/);
   refuses(() => mesh.geodesicDistance(null), /^geodesic sources must be an object, got null$/);
-  refuses(() => mesh.geodesicDistance(ringSource, { method: 'fast' }), /^method must be one of "mesh", "voxel", got the string "fast"$/);
+  refuses(() => mesh.geodesicDistance(ringSource, { method: 'fast' }), /^method must be one of "mesh", "voxel", "exact", got the string "fast"$/);
   refuses(() => mesh.geodesicDistance(ringSource, { methd: 'mesh' }), /^unknown geodesic parameter 'methd'$/);
   refuses(() => mesh.geodesicDistance(ringSource, { voxelSize: 1 }), /'voxelSize' needs method "voxel"/);
   refuses(() => mesh.geodesicDistance(ringSource, { method: 'voxel', voxelSize: 0.001 }), /voxel size 0\.001 is too small: .*use a voxel size of at least/);
