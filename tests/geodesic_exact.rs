@@ -8,79 +8,16 @@ use skinpath::geodesic::{
     geodesic_distance, DistanceField, DistanceParams, GeodesicError, GeodesicSource, Method,
 };
 use skinpath::math::{Point3, Real};
-use skinpath::mesh::{FaceAdjacency, TriMesh};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::f64::consts::PI;
 
-const R: Real = 50.0;
-const LEN: Real = 120.0;
+#[path = "common/geodesic_shapes.rs"]
+mod shapes;
+use shapes::*;
+
 /// Relative agreement with analytic polyhedral distances.
 const REL: Real = 1e-9;
-
-struct Shape {
-    mesh: TriMesh,
-    adjacency: FaceAdjacency,
-}
-
-fn shape(positions: Vec<Point3>, triangles: Vec<[u32; 3]>) -> Shape {
-    let mesh = TriMesh::new(positions, triangles).unwrap();
-    let adjacency = FaceAdjacency::new(&mesh);
-    Shape { mesh, adjacency }
-}
-
-/// Grid of `nu × nv` cells from `f(u, v)`, diagonals alternating; `wrap_u` closes the rows.
-fn grid(
-    nu: usize,
-    nv: usize,
-    wrap_u: bool,
-    f: impl Fn(Real, Real) -> Point3,
-) -> (Vec<Point3>, Vec<[u32; 3]>) {
-    let cols = if wrap_u { nu } else { nu + 1 };
-    let mut pos = Vec::new();
-    for j in 0..=nv {
-        for i in 0..cols {
-            pos.push(f(i as Real / nu as Real, j as Real / nv as Real));
-        }
-    }
-    let id = |i: usize, j: usize| (j * cols + i % cols) as u32;
-    let mut tri = Vec::new();
-    for j in 0..nv {
-        for i in 0..nu {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (i + j) % 2 == 0 {
-                tri.push([a, b, c]);
-                tri.push([a, c, d]);
-            } else {
-                tri.push([a, b, d]);
-                tri.push([b, c, d]);
-            }
-        }
-    }
-    (pos, tri)
-}
-
-fn cylinder(around: usize, along: usize) -> Shape {
-    let (p, t) = grid(around, along, true, |u, v| {
-        let a = 2.0 * PI * u;
-        Point3::new(R * libm::cos(a), R * libm::sin(a), LEN * v)
-    });
-    shape(p, t)
-}
-
-/// Plate A in z = 0 (y ∈ [0, 50]) and plate B in y = 0 (z ∈ [0, 50]), 150 long in x.
-fn plates(cell: Real) -> Shape {
-    let (nu, nv) = ((150.0 / cell) as usize, (100.0 / cell) as usize);
-    let (p, t) = grid(nu, nv, false, |u, v| {
-        let s = 100.0 * v;
-        if s <= 50.0 {
-            Point3::new(150.0 * u, 50.0 - s, 0.0)
-        } else {
-            Point3::new(150.0 * u, 0.0, s - 50.0)
-        }
-    });
-    shape(p, t)
-}
 
 /// B unfolded into A's plane: (x, 0, z) → (x, −z).
 fn unfold_plates(p: &Point3) -> (Real, Real) {
@@ -89,50 +26,6 @@ fn unfold_plates(p: &Point3) -> (Real, Real) {
     } else {
         (p.x, p.y)
     }
-}
-
-fn sphere(around: usize, rows: usize) -> Shape {
-    let mut pos = vec![Point3::new(0.0, 0.0, -R)];
-    for j in 1..rows {
-        let lat = -PI / 2.0 + PI * j as Real / rows as Real;
-        for i in 0..around {
-            let a = 2.0 * PI * i as Real / around as Real;
-            let (cl, sl) = (libm::cos(lat), libm::sin(lat));
-            pos.push(Point3::new(
-                R * cl * libm::cos(a),
-                R * cl * libm::sin(a),
-                R * sl,
-            ));
-        }
-    }
-    pos.push(Point3::new(0.0, 0.0, R));
-    let top = (pos.len() - 1) as u32;
-    let id = |i: usize, j: usize| (1 + (j - 1) * around + i % around) as u32;
-    let mut tri = Vec::new();
-    for i in 0..around {
-        tri.push([0, id(i + 1, 1), id(i, 1)]);
-        tri.push([top, id(i, rows - 1), id(i + 1, rows - 1)]);
-    }
-    for j in 1..rows - 1 {
-        for i in 0..around {
-            tri.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            tri.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    shape(pos, tri)
-}
-
-/// Height field 60 × 50 with heights 0..40 (the paper's model 3 size).
-fn height(x: Real, y: Real) -> Real {
-    40.0 * 0.5 * (1.0 - libm::cos(PI * x / 60.0)) * (0.6 + 0.4 * libm::sin(PI * y / 50.0))
-}
-fn height_field(cell: Real) -> Shape {
-    let (nu, nv) = ((60.0 / cell) as usize, (50.0 / cell) as usize);
-    let (p, t) = grid(nu, nv, false, |u, v| {
-        let (x, y) = (60.0 * u, 50.0 * v);
-        Point3::new(x, y, height(x, y))
-    });
-    shape(p, t)
 }
 
 fn params(method: Method) -> DistanceParams {
@@ -159,21 +52,6 @@ fn vertex_at(s: &Shape, p: Point3) -> u32 {
         .iter()
         .position(|q| (q - p).norm() < 1e-9)
         .unwrap() as u32
-}
-
-/// Distances are finite, ≥ 0 and 1-Lipschitz along every edge.
-fn check_field(s: &Shape, d: &[Real]) {
-    for t in s.mesh.triangles() {
-        for k in 0..3 {
-            let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
-            assert!(d[a] >= 0.0 && d[a].is_finite(), "vertex {a}: {}", d[a]);
-            let len = (s.mesh.positions()[a] - s.mesh.positions()[b]).norm();
-            assert!(
-                (d[a] - d[b]).abs() <= len * (1.0 + 1e-9) + 1e-9,
-                "edge {a}-{b} not 1-Lipschitz"
-            );
-        }
-    }
 }
 
 /// Largest |d − analytic| / max(analytic, 1) over the vertices.
@@ -450,15 +328,6 @@ fn saddle_cone_paths_bend_at_the_vertex_beyond_pi() {
         "the test reaches the shadow of the apex ({bent} vertices)"
     );
     assert!(worst < REL, "saddle: {worst}");
-}
-
-fn ring(z: Real, n: usize, phase: Real) -> Vec<Point3> {
-    (0..n)
-        .map(|i| {
-            let a = 2.0 * PI * (i as Real + phase) / n as Real;
-            Point3::new(R * libm::cos(a), R * libm::sin(a), z)
-        })
-        .collect()
 }
 
 fn max_difference(a: &[Real], b: &[Real]) -> Real {
