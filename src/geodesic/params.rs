@@ -49,7 +49,8 @@ pub enum GeodesicError {
 /// Which distance computation to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
-    /// Per-vertex distance on the triangle mesh by unfolded wavefront propagation.
+    /// Per-vertex distance by unfolded wavefront propagation: fast, exact on developable
+    /// surfaces, first order where fronts meet on doubly curved ones (see `unfolding.rs`).
     Mesh,
     /// The paper's voxel front propagation (Li & Zhang 2021, steps 1–3).
     Voxel,

@@ -1,8 +1,9 @@
 // Paths tool (issue 8): geodesically equidistant passes from a source on the surface — a
 // section plane through a clicked point, or a boundary loop of the mesh or of the selected
-// patch — by the mesh method or the voxel method of the paper. Draws the distance as a colour
-// map, the passes coloured by level (closed solid, open dashed) and the source, lists the
-// passes, compares the two methods on the same source, and exports through the ToolPath
+// patch — by the exact method (window propagation), the fast mesh method (unfolded
+// wavefronts) or the voxel method of the paper. Draws the distance as a colour map, the passes
+// coloured by level (closed solid, open dashed) and the source, lists the passes, compares the
+// methods on the same source against the exact one, and exports through the ToolPath
 // exporters (CSV, JSON, ABB RAPID, KUKA KRL). Lengths are typed in mm whatever the file's
 // unit; the worker (worker/paths.js) gets file units.
 import { CancelledError } from '../app/engine.js';
@@ -27,7 +28,7 @@ const CHOICES = {
   axis: ['x', 'y', 'z', 'view'],
   scope: ['mesh', 'patch'],
   spacingMode: ['spacing', 'bead'],
-  method: ['mesh', 'voxel', 'both'],
+  method: ['exact', 'mesh', 'voxel', 'compare'],
   order: ['zigzag', 'oneWay'],
   loop: ['all', '0', '1', '2', '3'],
 };
@@ -41,7 +42,7 @@ const DEFAULTS = Object.freeze(Object.fromEntries([
 /** Passes cycle through these (Okabe & Ito, black first) so that neighbouring levels differ. */
 const LEVEL_COLORS = ['#1d232a', '#E69F00', '#56B4E9', '#CC79A7', '#0072B2', '#D55E00'];
 const SOURCE_COLOR = '#ff2a2a';
-/** The cross where the mesh and voxel distances differ most. */
+/** The cross where a method differs most from the reference (exact) distance. */
 const DIFF_COLOR = '#ffffff';
 const UNREACHED = [160, 164, 168];
 /** Rows of the pass table at most (the exports carry all of them). */
@@ -104,9 +105,10 @@ const PANEL = `
     </fieldset>
     <fieldset>
       <legend>Method</legend>
-      ${radio('method', 'mesh', 'mesh (unfolded wavefronts)')}
+      ${radio('method', 'exact', 'exact (window propagation)')}
+      ${radio('method', 'mesh', 'fast (unfolded wavefronts)')}
       ${radio('method', 'voxel', 'voxels (the paper)')}
-      ${radio('method', 'both', 'both, and compare')}
+      ${radio('method', 'compare', 'all three, compared with exact')}
       ${group('method')}
     </fieldset>
     <p id="paths-error" class="field-error" aria-live="polite"></p>
@@ -213,7 +215,7 @@ class PathsTool {
       const text = el.value.trim();
       const v = text === '' ? (f.blank ? 0 : NaN) : Number(text);
       const used = (f.group !== 'spacing' || values.spacingMode === 'spacing') && (f.group !== 'bead' || values.spacingMode === 'bead') &&
-        (f.group !== 'method' || values.method !== 'mesh');
+        (f.group !== 'method' || values.method === 'voxel' || values.method === 'compare');
       let problem = null;
       if (!Number.isFinite(v)) problem = `Enter a number for the ${f.label.toLowerCase()}.`;
       else if (f.blank && v === 0) problem = null;
@@ -370,7 +372,7 @@ class PathsTool {
     } else {
       source = { kind: 'boundary', ...(v.loop !== 'all' ? { loop: Number(v.loop) } : {}) };
     }
-    const methods = v.method === 'both' ? ['mesh', 'voxel'] : [v.method];
+    const methods = v.method === 'compare' ? ['exact', 'mesh', 'voxel'] : [v.method];
     return {
       values: v,
       patchId,
@@ -520,40 +522,53 @@ class PathsTool {
     this.#renderLegend();
   }
 
-  /** Max and mean |mesh − voxel| over vertices reached by both, and where the largest is. */
+  /** Max and mean difference of each method from the reference (exact, else mesh) over the
+   * vertices both reached, and a cross where the largest difference is. */
   #renderDiff() {
     const el = $('paths-diff');
     const runs = this.#runs;
     this.#shell.viewer?.removeLayer('paths.diffmark');
-    if (!runs?.mesh || !runs?.voxel || runs.mesh.length !== runs.voxel.length) {
+    const reference = runs?.exact ? 'exact' : 'mesh';
+    const others = ['mesh', 'voxel'].filter((m) => m !== reference && runs?.[m] && runs[m].length === runs[reference]?.length);
+    if (!others.length) {
       el.hidden = true;
       return;
     }
     const mm = this.#shell.mmPerUnit;
     const P = this.#result.out.positions;
-    let max = 0;
-    let at = -1;
-    let sum = 0;
-    let n = 0;
-    for (let i = 0; i < runs.mesh.length; i++) {
-      const a = runs.mesh[i];
-      const b = runs.voxel[i];
-      if (!Number.isFinite(a) || !Number.isFinite(b)) continue;
-      const e = Math.abs(a - b);
-      sum += e;
-      n++;
-      if (e > max) {
-        max = e;
-        at = i;
+    const unit = this.#shell.unitOf.length();
+    const NAMES = { exact: 'exact', mesh: 'fast mesh', voxel: 'voxel' };
+    let worst = { max: 0, at: -1 };
+    const lines = others.map((method) => {
+      const a = runs[method];
+      const b = runs[reference];
+      let max = 0;
+      let at = -1;
+      let sum = 0;
+      let n = 0;
+      for (let i = 0; i < a.length; i++) {
+        if (!Number.isFinite(a[i]) || !Number.isFinite(b[i])) continue;
+        const e = Math.abs(a[i] - b[i]);
+        sum += e;
+        n++;
+        if (e > max) {
+          max = e;
+          at = i;
+        }
       }
-    }
+      if (max > worst.max) worst = { max, at };
+      el.dataset[`${method}Max`] = String(max * mm);
+      const where = at >= 0 ? ` at (${[0, 1, 2].map((k) => num(P[3 * at + k], 4)).join(', ')}) ${unit}` : '';
+      return `${NAMES[method]} method vs ${NAMES[reference]}: largest difference ${num(max * mm, 4)} mm${where}, ` +
+        `mean ${num(n ? (sum / n) * mm : 0, 4)} mm over ${integer.format(n)} vertices` +
+        (method === 'voxel' ? ' (the voxel distance read at the nearest voxel)' : '') + '.';
+    });
     el.hidden = false;
-    el.dataset.max = String(max * mm);
-    el.dataset.mean = String(n ? (sum / n) * mm : 0);
-    if (at >= 0) {
-      // A ring of three crosses where the methods differ most, sized by the difference.
-      const r = Math.max(max, this.#result.request.spacing / 2);
-      const c = [P[3 * at], P[3 * at + 1], P[3 * at + 2]];
+    el.dataset.max = String(worst.max * mm);
+    if (worst.at >= 0) {
+      // A ring of three crosses where a method differs most, sized by the difference.
+      const r = Math.max(worst.max, this.#result.request.spacing / 2);
+      const c = [P[3 * worst.at], P[3 * worst.at + 1], P[3 * worst.at + 2]];
       const pos = [];
       for (let k = 0; k < 3; k++) {
         const a = [...c];
@@ -565,9 +580,7 @@ class PathsTool {
       this.#shell.viewer.setLayer('paths.diffmark', { kind: 'lines', positions: Float32Array.from(pos), color: DIFF_COLOR });
       this.#shell.viewer.setLayerVisible('paths.diffmark', this.#shell.activeTool === this);
     }
-    const where = at >= 0 ? ` at (${[0, 1, 2].map((k) => num(P[3 * at + k], 4)).join(', ')}) ${this.#shell.unitOf.length()}` : '';
-    el.textContent = `Mesh vs voxel method on this source: largest difference ${num(max * mm, 4)} mm${where}, ` +
-      `mean ${num(n ? (sum / n) * mm : 0, 4)} mm over ${integer.format(n)} vertices (the voxel distance read at the nearest voxel; white cross in the view).`;
+    el.textContent = `On this source: ${lines.join(' ')} White cross in the view: the largest difference.`;
   }
 
   #renderLegend() {

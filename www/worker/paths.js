@@ -1,8 +1,10 @@
 // Worker side of the paths tool (tools/paths.js): the geodesic distance from a source (a
-// section plane, a boundary loop) by the mesh or the voxel method, its iso-distance passes,
+// section plane, a boundary loop) by the exact, the fast mesh or the voxel method, its iso-distance passes,
 // and the tool-path exports. Keeps the last DistanceField for the exports. Protocol and
 // `ctx`: see worker.js. Lengths arrive and leave in the file's units.
 import { exportTexts, packageFiles } from './programs.js';
+
+const METHOD_NAMES = { exact: 'Exact', mesh: 'Fast mesh', voxel: 'Voxel' };
 
 export const doing = { compute: 'computing the geodesic distance', exportPaths: 'writing the path program' };
 
@@ -55,7 +57,7 @@ export const ops = {
   /**
    * { source: { kind: 'plane', point|null, normal } | { kind: 'boundary', loop? }
    *   | { kind: 'points', points (flat xyz), closed }, patchId|null,
-   *   methods: ['mesh'|'voxel', …], voxelSize, spacing, pathOptions } → per method the vertex
+   *   methods: ['exact'|'mesh'|'voxel', …], voxelSize, spacing, pathOptions } → per method the vertex
    * distances, and for the first method its paths and a trace of the source. The first
    * method's field stays here for the exports.
    */
@@ -77,7 +79,7 @@ export const ops = {
         const params = { method, ...(faces ? { faces } : {}), ...(method === 'voxel' && voxelSize ? { voxelSize } : {}) };
         const t0 = performance.now();
         const f = ctx.mesh.geodesicDistance(src, params,
-          (stage, fraction) => progress(`${method === 'voxel' ? 'Voxel' : 'Mesh'} method: ${stage}`, (i + fraction) / methods.length));
+          (stage, fraction) => progress(`${METHOD_NAMES[method]} method: ${stage}`, (i + fraction) / methods.length));
         const ms = performance.now() - t0;
         const run = { method, maxDistance: f.maxDistance, vertexDistance: f.vertexDistance(), ms, voxelCount: f.voxelCount };
         transfer.push(run.vertexDistance.buffer);
