@@ -707,6 +707,7 @@ class Shell {
     for (const button of document.querySelectorAll('.view-toolbar [data-view]')) {
       button.addEventListener('click', () => this.viewer.setView(button.dataset.view));
     }
+    this.viewer.setRayPicker((origin, direction, hidden) => this.#pick(origin, direction, hidden));
     this.viewer.addEventListener('hover', (event) => this.#onHover(event.detail));
     this.viewer.addEventListener('pick', (event) => {
       const id = event.detail.patchId;
@@ -717,6 +718,21 @@ class Shell {
     $('alert-dismiss').addEventListener('click', () => this.hideAlert());
     document.addEventListener('keydown', (event) => this.#onShortcut(event));
     window.addEventListener('hashchange', () => this.#onHashChange());
+  }
+
+  /**
+   * Asks the worker which patch a ray (model coordinates) hits first, passing through
+   * `hidden` patches: { patchId, point } or null. The request queues behind running work (a
+   * click waits for its answer); with no mesh in the worker (loading, after Cancel) it is a
+   * miss, and so is any failure, which only costs a hover.
+   */
+  async #pick(origin, direction, hidden) {
+    if (!this.engine?.hasMesh) return null;
+    try {
+      return await this.engine.request('pick', { origin, direction, hidden });
+    } catch {
+      return null;
+    }
   }
 
   #onHover({ patchId, clientX, clientY }) {
