@@ -1,6 +1,6 @@
 //! `Mesh`: an imported STL held on the Rust side (JavaScript must call `free()`).
 
-use super::params::{read_bytes, read_callback, read_index_list, read_number_list};
+use super::params::{read_bytes, read_callback, read_index_list, read_vector3};
 use super::{progress_fn, DistanceField, Segmentation, SprayPlan};
 use crate::math::{Compact, Point3, Real, Vector3};
 use crate::mesh::{import_stl, ImportedMesh, MeshIndex, RayHit};
@@ -25,19 +25,19 @@ pub(super) fn read_ray(
     origin: &JsValue,
     direction: &JsValue,
 ) -> Result<(Point3, Vector3), JsError> {
-    let three = |value: &JsValue, name: &str| -> Result<[f64; 3], JsError> {
-        let v = read_number_list(value, name, 3)?;
-        <[f64; 3]>::try_from(v.as_slice()).map_err(|_| {
-            JsError::new(&format!(
-                "{name} must be three numbers [x, y, z], got {} numbers",
-                v.len()
-            ))
-        })
+    let finite = |value: &JsValue, name: &str| -> Result<[f64; 3], JsError> {
+        let v = read_vector3(value, name)?;
+        match v.iter().position(|x| !x.is_finite()) {
+            Some(i) => Err(JsError::new(&format!(
+                "{name}[{i}] must be a finite number, got {}",
+                Compact(v[i])
+            ))),
+            None => Ok(v),
+        }
     };
-    let o = three(origin, "origin")?;
-    let d = three(direction, "direction")?;
-    let direction = Vector3::from(d);
-    let length = direction.norm();
+    let o = finite(origin, "origin")?;
+    let d = finite(direction, "direction")?;
+    let length = Vector3::from(d).norm();
     if !(length > 0.0 && length.is_finite()) {
         return Err(JsError::new(&format!(
             "direction must be a non-zero vector of finite length, got [{}, {}, {}]",
@@ -46,7 +46,7 @@ pub(super) fn read_ray(
             Compact(d[2])
         )));
     }
-    Ok((Point3::from(o), direction))
+    Ok((Point3::from(o), Vector3::from(d)))
 }
 
 /// `{ face, point: [x, y, z], distance }` (plus `patch` when given) as a JavaScript object.

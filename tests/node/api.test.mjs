@@ -24,7 +24,7 @@ test('the generated TypeScript declarations name the whole API', () => {
     'patchOf(): Int32Array', 'patches(): Patch[]', 'borderSegments(): Float32Array', 'borderPatches(): Int32Array',
     'patchStl(id: number): Uint8Array', 'export function deriveThreshold(params: SegmentParams): Threshold;',
     'raycast(origin: Float64Array | number[], direction: Float64Array | number[]): RayHit | null',
-    'raycast(origin: Float64Array | number[], direction: Float64Array | number[], hidden?: number[] | null): RayHit | null',
+    'raycast(origin: Float64Array | number[], direction: Float64Array | number[], hidden?: number[]): RayHit | null',
     'export interface RayHit {',
     'export function wasmMemoryBytes(): number', 'free(): void', 'export interface MeshReport {',
     'export interface Patch {', 'export type ProgressCallback = (stage: string, fraction: number) => void;']) {
@@ -108,15 +108,16 @@ test('raycast: the first face along a ray, passing through hidden patches', () =
 
   // Bad rays and hidden lists are refused by name; the objects keep working.
   for (const [call, message] of [
-    [() => mesh.raycast([0, 0], down), /^origin must be three numbers \[x, y, z\], got 2 numbers$/],
-    [() => mesh.raycast('0,0,0', down), /^origin must be a Float64Array or an array of numbers/],
+    [() => mesh.raycast([0, 0], down), /^origin must be three numbers \[x, y, z\], got an array$/],
+    [() => mesh.raycast('0,0,0', down), /^origin must be three numbers \[x, y, z\], got the string "0,0,0"$/],
     [() => mesh.raycast([0, NaN, 0], down), /^origin\[1\] must be a finite number, got NaN$/],
     [() => mesh.raycast(origin, [0, 0, 0]), /^direction must be a non-zero vector of finite length, got \[0, 0, 0\]$/],
     [() => mesh.raycast(origin, [1e308, 1e308, 0]), /^direction must be a non-zero vector of finite length/],
-    [() => mesh.raycast(origin), /^direction must be a Float64Array or an array of numbers/],
+    [() => mesh.raycast(origin), /^direction must be three numbers \[x, y, z\], got undefined$/],
+    [() => mesh.raycast(origin, [0, '1', 0]), /^direction\[1\] must be a number, got the string "1"$/],
     [() => seg.raycast(origin, down, [2]), /^hidden\[0\] must be a whole number from -1 to 1, got 2$/],
     [() => seg.raycast(origin, down, [0, 0.5]), /^hidden\[1\] must be a whole number from -1 to 1, got 0\.5$/],
-    [() => seg.raycast(origin, down, 'all'), /^hidden must be a Float64Array or an array of numbers/],
+    [() => seg.raycast(origin, down, 'all'), /^hidden must be a Float64Array or an array of numbers, got the string "all"$/],
   ]) {
     assert.throws(call, (e) => e instanceof Error && message.test(e.message), String(message));
   }
