@@ -17,9 +17,10 @@ const BACKGROUND = 0xe9edf1;
 /**
  * Triangles per draw chunk. WebGL copies a chunk's buffers in one call on the first frame
  * that draws it, and the page cannot go on until the GPU process has taken them, so chunks
- * join the scene one per frame: 2^17 triangles are 6 MB of attributes. (Handing over four
- * million triangles at once held the page for about 280 ms in headless SwiftShader; chunks
- * of 2^18 for 60 to 180 ms each.)
+ * join the scene one at a time, each once the GPU has finished all earlier work (a fence):
+ * 2^17 triangles are 6 MB of attributes. (Handing over four million triangles at once held
+ * the page for about 280 ms in headless SwiftShader; chunks of 2^18 without the fence, for
+ * 60 to 180 ms each, and up to 300 ms when the GPU was still drawing.)
  */
 const CHUNK_TRIANGLES = 1 << 17;
 // Material slots of the draw groups. While a patch is selected the others are dimmed, so the
@@ -64,7 +65,10 @@ export class Viewer extends EventTarget {
   #model = new THREE.Group(); // turned by the up-axis setting
   #surface = null; // Group of the chunk meshes of the model
   #chunks = []; // chunk meshes, each with userData { start, end } in triangles
-  #pendingChunks = []; // chunks not yet in the scene (added one per frame)
+  #pendingChunks = []; // chunks not yet in the scene (see #feedChunks)
+  #fence = null; // WebGLSync after the last chunk's upload, or after the previous model
+  #feedToken = 0; // bumped by setModel: an older model's #feedChunks loop stops
+  #drawnWaiters = []; // resolve functions of drawn() promises
   #sphere = new THREE.Sphere(); // bounding sphere of the model, file frame
   #warmObjects = []; // keep the programs compiled at start-up cached (see #warmUpPrograms)
   #borders = null;
@@ -126,9 +130,10 @@ export class Viewer extends EventTarget {
   }
 
   /**
-   * Picking goes through `fn(origin, direction, hidden)` → Promise of { patchId, point } or
-   * null: the ray in the model's coordinates (file frame, direction not normalised) and the
-   * hidden patch ids (-1 = dropped), which the ray passes through.
+   * Picking goes through `fn(origin, direction, hidden, { click })` → Promise of { patchId,
+   * point } or null: the ray in the model's coordinates (file frame, direction not
+   * normalised), the hidden patch ids (-1 = dropped), which the ray passes through, and
+   * whether a click (rather than a hover) asks.
    */
   setRayPicker(fn) {
     this.#rayPicker = fn;
@@ -166,6 +171,9 @@ export class Viewer extends EventTarget {
     }
     this.#pendingChunks = [...this.#chunks];
     this.#model.add(this.#surface);
+    this.#fenceGpu(); // the first chunk waits until the GPU is done with the previous model
+    const token = ++this.#feedToken;
+    requestAnimationFrame(() => this.#feedChunks(token));
 
     const lineGeometry = new THREE.BufferGeometry();
     lineGeometry.setAttribute('position', new THREE.BufferAttribute(borders, 3));
@@ -179,6 +187,18 @@ export class Viewer extends EventTarget {
     this.#applyState();
     if (!keepView) this.fit(VIEWS.iso);
     this.requestRender();
+  }
+
+  /** Resolves once the model on screen is wholly in WebGL (at once when nothing is pending). */
+  drawn() {
+    if (!this.#pendingChunks.length) return Promise.resolve();
+    return new Promise((resolve) => this.#drawnWaiters.push(resolve));
+  }
+
+  #resolveDrawn() {
+    const waiters = this.#drawnWaiters;
+    this.#drawnWaiters = [];
+    for (const resolve of waiters) resolve();
   }
 
   /** Updates what is drawn: { hidden: Set<id> (-1 = dropped), selected, hovered, showBorders }. */
@@ -310,14 +330,43 @@ export class Viewer extends EventTarget {
     this.#model.remove(...objects);
   }
 
-  #render() {
-    if (this.#pendingChunks.length) {
-      // One chunk joins per frame and none is drawn until all have: a frame that draws
-      // millions of triangles keeps the GPU busy, and the next chunk's copy would wait for it.
-      this.#surface.add(this.#pendingChunks.shift());
-      if (this.#pendingChunks.length) this.requestRender();
-      else this.#applyState();
+  /** Puts a fence after the GPU work queued so far (replacing any earlier fence). */
+  #fenceGpu() {
+    const gl = this.#renderer.getContext();
+    if (this.#fence) gl.deleteSync(this.#fence);
+    this.#fence = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
+    gl.flush();
+  }
+
+  /**
+   * Hands the model to WebGL one chunk per animation frame, each only once the GPU has
+   * finished everything queued before (polling the fence does not wait), so that the copy
+   * never queues behind drawing, which a software GPU does slowly. No chunk is drawn until
+   * all are in (#applyState), so nothing but the copies keeps the GPU busy meanwhile.
+   */
+  #feedChunks(token) {
+    if (token !== this.#feedToken || !this.#pendingChunks.length) return;
+    const gl = this.#renderer.getContext();
+    const next = () => requestAnimationFrame(() => this.#feedChunks(token));
+    if (this.#fence && !gl.isContextLost() && gl.getSyncParameter(this.#fence, gl.SYNC_STATUS) !== gl.SIGNALED) {
+      next();
+      return;
     }
+    this.#surface.add(this.#pendingChunks.shift());
+    if (this.#pendingChunks.length) {
+      this.#render(); // uploads the chunk
+      this.#fenceGpu();
+      next();
+    } else {
+      if (this.#fence) gl.deleteSync(this.#fence);
+      this.#fence = null;
+      this.#applyState();
+      this.requestRender();
+      this.#resolveDrawn();
+    }
+  }
+
+  #render() {
     const renderer = this.#renderer;
     renderer.clear();
     renderer.render(this.#scene, this.#camera);
@@ -396,6 +445,7 @@ export class Viewer extends EventTarget {
     }
     this.#chunks = [];
     this.#pendingChunks = [];
+    this.#resolveDrawn();
     this.#ranges = new Uint32Array(0);
     this.#boxes = new Float32Array(0);
     this.#borderPatches = new Int32Array(0);
@@ -446,7 +496,7 @@ export class Viewer extends EventTarget {
   }
 
   /** The patch under a point of the canvas: Promise of { patchId, point } or null (a miss). */
-  async #pickAt(clientX, clientY) {
+  async #pickAt(clientX, clientY, click = false) {
     if (!this.#surface || !this.#rayPicker) return null;
     const rect = this.canvas.getBoundingClientRect();
     const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
@@ -454,7 +504,7 @@ export class Viewer extends EventTarget {
     const surface = this.#surface;
     const toModel = surface.matrixWorld.clone().invert();
     const ray = this.#raycaster.ray.clone().applyMatrix4(toModel);
-    const hit = await this.#rayPicker(ray.origin.toArray(), ray.direction.toArray(), [...this.#state.hidden]);
+    const hit = await this.#rayPicker(ray.origin.toArray(), ray.direction.toArray(), [...this.#state.hidden], { click });
     return surface === this.#surface ? hit : null; // the model was replaced meanwhile
   }
 
@@ -502,11 +552,11 @@ export class Viewer extends EventTarget {
       if (!down || down.button !== 0) return;
       const moved = Math.hypot(event.clientX - down.x, event.clientY - down.y);
       if (moved > 4 || performance.now() - down.time > 600) return;
-      const hit = await this.#pickAt(event.clientX, event.clientY);
+      const hit = await this.#pickAt(event.clientX, event.clientY, true);
       emit('pick', { patchId: hit ? hit.patchId : null, point: hit ? hit.point : null });
     });
     canvas.addEventListener('dblclick', async (event) => {
-      const hit = await this.#pickAt(event.clientX, event.clientY);
+      const hit = await this.#pickAt(event.clientX, event.clientY, true);
       if (hit && hit.patchId >= 0) this.fitPatch(hit.patchId);
     });
   }
