@@ -80,7 +80,7 @@ export class Viewer extends EventTarget {
   #borderPatches = new Int32Array(0); // two patch ids per border segment
   #borderHiddenKey = '';
   #boxes = new Float32Array(0); // per bucket: min xyz, max xyz
-  #rayPicker = null; // (origin, direction, hidden) => Promise<{ patchId, point } | null>
+  #rayPicker = null; // see setRayPicker
   #raycaster = new THREE.Raycaster();
   #renderQueued = false;
   #sceneRadius = 1; // bounding radius of the whole model: bounds the far plane
