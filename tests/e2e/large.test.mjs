@@ -81,6 +81,26 @@ test('Cancel stops a long load and keeps the model on screen', async () => {
   assert.ok((await page.locator('#patch-rows tr[data-patch-id]').count()) > 0);
 });
 
+test('after Cancel, a click on the view gives the worker the model again and picks', async () => {
+  await page.evaluate(() => { document.getElementById('file-input').value = ''; }); // the same file again
+  await page.setInputFiles('#file-input', torus4m);
+  await page.locator('#progress').waitFor({ state: 'visible' });
+  await page.waitForFunction(() => /Reading the STL/.test(document.getElementById('progress-stage').textContent),
+    null, { timeout: 60_000, polling: 50 });
+  await page.click('#cancel-button');
+  await waitForReady(page);
+  assert.equal(await page.evaluate(() => document.body.dataset.model), 'torus_1m.stl');
+  await page.click('#patch-rows tr[data-patch-id="0"] td:nth-child(2)');
+  await page.keyboard.press('Escape'); // nothing selected
+  assert.equal(await page.locator('#patch-rows tr[aria-selected="true"]').count(), 0);
+  // The new worker holds no mesh: the click re-reads the model on screen, then picks on it.
+  const canvas = await page.locator('#viewer canvas').boundingBox();
+  await page.mouse.click(canvas.x + canvas.width / 2 - 300, canvas.y + canvas.height / 2);
+  await page.waitForSelector('#patch-rows tr[aria-selected="true"]', { timeout: 120_000 });
+  await waitForReady(page, 120_000);
+  assert.equal(await text('#alert'), '');
+});
+
 test('a file too large for browser memory is refused before any attempt', async () => {
   // A sparse file: 3 GB on paper, a few bytes on disk. Only its header is read.
   const path = join(outputDir, 'too_large_sparse.stl');
