@@ -84,10 +84,13 @@ test('Cancel stops a long load and keeps the model on screen', async () => {
 test('after Cancel, a click on the view gives the worker the model again and picks', async () => {
   await page.evaluate(() => { document.getElementById('file-input').value = ''; }); // the same file again
   await page.setInputFiles('#file-input', torus4m);
-  await page.locator('#progress').waitFor({ state: 'visible' });
-  await page.waitForFunction(() => /Reading the STL/.test(document.getElementById('progress-stage').textContent),
-    null, { timeout: 60_000, polling: 50 });
-  await page.click('#cancel-button');
+  // Cancel from inside the page as soon as the worker reports reading, so that a fast
+  // machine cannot finish the load first.
+  await page.waitForFunction(() => {
+    if (!/Reading the STL/.test(document.getElementById('progress-stage').textContent)) return false;
+    document.getElementById('cancel-button').click();
+    return true;
+  }, null, { timeout: 60_000, polling: 20 });
   await waitForReady(page);
   assert.equal(await page.evaluate(() => document.body.dataset.model), 'torus_1m.stl');
   await page.click('#patch-rows tr[data-patch-id="0"] td:nth-child(2)');

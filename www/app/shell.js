@@ -711,6 +711,7 @@ class Shell {
       button.addEventListener('click', () => this.viewer.setView(button.dataset.view));
     }
     this.viewer.setRayPicker((origin, direction, hidden, options) => this.#pick(origin, direction, hidden, options));
+    this.viewer.addEventListener('modellost', () => this.#redraw());
     this.viewer.addEventListener('hover', (event) => this.#onHover(event.detail));
     this.viewer.addEventListener('pick', (event) => {
       const id = event.detail.patchId;
@@ -744,6 +745,18 @@ class Shell {
     } catch {
       return null;
     }
+  }
+
+  /** The view lost its WebGL context and with it the model: the worker sends it again. */
+  #redraw() {
+    if (!this.state.model) return;
+    this.enqueue('Drawing the model again', async (progress, checkpoint) => {
+      await this.restoreEngine(progress, checkpoint);
+      const display = await this.engine.request('display', {}, { onProgress: progress });
+      checkpoint();
+      this.viewer.setModel(display, { keepView: true });
+      this.syncViewer();
+    });
   }
 
   #onHover({ patchId, clientX, clientY }) {

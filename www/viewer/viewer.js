@@ -122,7 +122,14 @@ export class Viewer extends EventTarget {
     this.#resize();
     this.#listenForPicks(canvas);
     canvas.addEventListener('webglcontextlost', (event) => event.preventDefault());
-    canvas.addEventListener('webglcontextrestored', () => this.requestRender());
+    canvas.addEventListener('webglcontextrestored', () => {
+      // The model's arrays were let go once on the GPU: ask for them again ('modellost').
+      if (this.#surface) {
+        this.#disposeModel();
+        this.dispatchEvent(new CustomEvent('modellost'));
+      }
+      this.requestRender();
+    });
   }
 
   get canvas() {
@@ -141,9 +148,10 @@ export class Viewer extends EventTarget {
 
   /**
    * Shows a mesh: display = { positions, colors, ranges, boxes, sphere, borders,
-   * borderPatches } from the worker (file frame; see worker.js). The arrays are kept, not
-   * copied. `keepView` keeps the camera (re-segmenting the same model); otherwise the view is
-   * fitted.
+   * borderPatches } from the worker (file frame; see worker.js). The arrays are used, not
+   * copied, and the positions and colours are let go once on the GPU. `keepView` keeps the
+   * camera (re-segmenting the same model); otherwise the view is fitted. Emits 'modellost'
+   * when a lost WebGL context comes back: the caller then sets the model again.
    */
   setModel(display, { keepView = false } = {}) {
     this.#disposeModel();
@@ -159,10 +167,13 @@ export class Viewer extends EventTarget {
     const triangles = positions.length / 9;
     for (let start = 0; start < triangles; start += CHUNK_TRIANGLES) {
       const end = Math.min(triangles, start + CHUNK_TRIANGLES);
-      // Views into the worker's arrays, not copies.
+      // Views into the worker's arrays, not copies, let go once WebGL has them: nothing here
+      // reads them again (boxes, sphere and picks come from the worker).
       const geometry = new THREE.BufferGeometry();
-      geometry.setAttribute('position', new THREE.BufferAttribute(positions.subarray(9 * start, 9 * end), 3));
-      geometry.setAttribute('color', new THREE.BufferAttribute(colors.subarray(9 * start, 9 * end), 3, true));
+      const position = new THREE.BufferAttribute(positions.subarray(9 * start, 9 * end), 3);
+      const color = new THREE.BufferAttribute(colors.subarray(9 * start, 9 * end), 3, true);
+      geometry.setAttribute('position', position.onUpload(releaseArray));
+      geometry.setAttribute('color', color.onUpload(releaseArray));
       geometry.boundingSphere = this.#sphere; // the whole model's: culling stays conservative
       const chunk = new THREE.Mesh(geometry, this.#materials);
       chunk.raycast = () => {}; // picking goes to the worker, never three's brute force
@@ -601,6 +612,11 @@ class AxisGizmo {
     const canvas = renderer.domElement;
     renderer.setViewport(0, 0, canvas.width / renderer.getPixelRatio(), canvas.height / renderer.getPixelRatio());
   }
+}
+
+/** BufferAttribute.onUpload callback: the GPU has the data, the page needs no copy. */
+function releaseArray() {
+  this.array = null;
 }
 
 /** A tool layer's three.js object (see Viewer.setLayer). */

@@ -3,7 +3,7 @@
 // the tools' worker modules (worker/segment.js, worker/spray.js, …).
 //
 // Protocol (app/engine.js is the other side; ids tie replies to requests):
-//   page → worker  { id, op, ...payload }        op = 'open', 'pick' or '<tool>.<name>', e.g. 'spray.plan'
+//   page → worker  { id, op, ...payload }        op = 'open', 'pick', 'display' or '<tool>.<name>'
 //   worker → page  { type: 'ready' } | { type: 'fatal', message }     once, after wasm init
 //                  { id, type: 'progress', stage, fraction }           any number, then
 //                  { id, type: 'done', result }                        either this
@@ -211,6 +211,12 @@ function open({ id, buffer, tools = {} }) {
 
 function handlerOf(op) {
   if (op === 'open') return (msg) => open(msg);
+  if (op === 'display') {
+    return (msg) => {
+      if (!ctx.mesh) throw new Error('No model is loaded.');
+      return ctx.display(progressFor(msg.id));
+    };
+  }
   if (op === 'pick') {
     return (msg) => {
       if (!ctx.mesh) throw new Error('No model is loaded.');
@@ -226,7 +232,7 @@ function handlerOf(op) {
   };
 }
 
-const DOING = { open: 'reading the file', pick: 'picking' };
+const DOING = { open: 'reading the file', pick: 'picking', display: 'preparing the display' };
 
 try {
   await init();
