@@ -73,8 +73,18 @@ fn grid_mesh(cells_u: usize, cells_v: usize, f: impl Fn(Real, Real) -> Point3) -
 
 /// Brute-force first hit: plane intersection then an inside test by signed areas.
 fn brute_ray(mesh: &TriMesh, o: &Point3, d: &Vector3) -> Option<Real> {
+    brute_ray_where(mesh, o, d, |_| true)
+}
+
+/// [`brute_ray`] over the faces `accept` keeps.
+fn brute_ray_where(
+    mesh: &TriMesh,
+    o: &Point3,
+    d: &Vector3,
+    accept: impl Fn(usize) -> bool,
+) -> Option<Real> {
     let mut best: Option<Real> = None;
-    for f in 0..mesh.triangle_count() {
+    for f in (0..mesh.triangle_count()).filter(|&f| accept(f)) {
         let [a, b, c] = mesh.corners(f);
         let n = (b - a).cross(&(c - a));
         let denom = n.dot(d);
@@ -213,6 +223,70 @@ fn mesh_index_matches_brute_force_on_random_rays_and_points() {
     assert!(index
         .cast_ray(&Point3::origin(), &Vector3::zeros(), 1.0)
         .is_none());
+}
+
+#[test]
+fn ray_cast_with_a_face_filter_passes_through_refused_faces() {
+    // Five stacked 10 × 10 sheets at z = 0, 1, …, 4 (two triangles each, faces 2k and 2k + 1
+    // at height k), cast from above: the first accepted sheet is hit, at an analytic distance.
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for k in 0..5u32 {
+        let z = Real::from(k);
+        for (x, y) in [(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)] {
+            positions.push(Point3::new(x, y, z));
+        }
+        let b = 4 * k;
+        triangles.push([b, b + 1, b + 2]);
+        triangles.push([b, b + 2, b + 3]);
+    }
+    let mesh = TriMesh::new(positions, triangles).unwrap();
+    let index = MeshIndex::new(&mesh);
+    let (o, d) = (Point3::new(3.0, 7.0, 10.0), Vector3::new(0.0, 0.0, -2.0));
+    let top = index.cast_ray(&o, &d, Real::INFINITY).unwrap();
+    assert_eq!((top.face / 2, top.distance), (4, 6.0));
+    for hidden_above in 0..5 {
+        // Sheets 4, 3, … down to 5 − hidden_above are refused.
+        let keep = |f: usize| f / 2 < 5 - hidden_above;
+        let hit = index.cast_ray_where(&o, &d, Real::INFINITY, keep).unwrap();
+        assert_eq!(hit.face / 2, 4 - hidden_above);
+        assert_eq!(hit.distance, 6.0 + hidden_above as Real);
+        assert_eq!(hit.point, Point3::new(3.0, 7.0, (4 - hidden_above) as Real));
+    }
+    assert!(index
+        .cast_ray_where(&o, &d, Real::INFINITY, |_| false)
+        .is_none());
+    // A limit between two accepted sheets turns the farther one into a miss.
+    assert!(index.cast_ray_where(&o, &d, 7.5, |f| f / 2 < 3).is_none());
+
+    // Against brute force on a wavy sheet: refuse every face whose id is divisible by 3.
+    let sheet = grid_mesh(30, 20, |s, t| {
+        Point3::new(
+            60.0 * s,
+            40.0 * t,
+            4.0 * libm::sin(5.0 * s) * libm::cos(3.0 * t),
+        )
+    });
+    let index = MeshIndex::new(&sheet);
+    let keep = |f: usize| f % 3 != 0;
+    let mut rng = Rng(11);
+    let mut hits = 0;
+    for _ in 0..120 {
+        let o = Point3::new(rng.range(-5.0, 65.0), rng.range(-5.0, 45.0), 20.0);
+        let target = Point3::new(rng.range(0.0, 60.0), rng.range(0.0, 40.0), 0.0);
+        let d = target - o;
+        let got = index.cast_ray_where(&o, &d, Real::INFINITY, keep);
+        match (got, brute_ray_where(&sheet, &o, &d.normalize(), keep)) {
+            (Some(hit), Some(t)) => {
+                hits += 1;
+                assert!(keep(hit.face), "face {} was refused", hit.face);
+                assert!((hit.distance - t).abs() < 1e-9, "{} vs {t}", hit.distance);
+            }
+            (None, None) => {}
+            (g, b) => panic!("index {g:?} vs brute force {b:?} for ray {o} {d}"),
+        }
+    }
+    assert!(hits > 60, "{hits} hits");
 }
 
 #[test]

@@ -28,8 +28,9 @@
 //!   normal is the mesh's smooth normal there; the mesh should then describe the actual panel
 //!   (or the deviation along the normal must not matter, as with a pressure foot).
 
-use super::{CoonsPatch, DrillError, MeshIndex};
+use super::{CoonsPatch, DrillError};
 use crate::math::{any_perpendicular, Point3, Real, Vector3};
+use crate::mesh::MeshIndex;
 
 /// A hole is outside the reference quadrilateral when `u` or `w` is beyond `[0, 1]` by more
 /// than this.

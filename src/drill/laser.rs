@@ -15,8 +15,9 @@
 //!         and degenerate readings (coincident or collinear points, or points in crossed order)
 //!         are refused rather than giving an arbitrary normal.
 
-use super::{DrillError, MeshIndex};
+use super::DrillError;
 use crate::math::{Point3, Real, Vector3};
+use crate::mesh::MeshIndex;
 
 /// A beam direction counts as unit when its length is within this of 1.
 pub const UNIT_DIRECTION_TOLERANCE: Real = 1e-6;

@@ -1,7 +1,8 @@
 //! Drilling-hole correction (seed 004, Bi et al. 2015): surface normals from four laser
 //! readings, the Coons-patch error surface over four reference holes (and the bilinear
-//! baseline), corrected holes, drilling poses, the hole-list CSV and the paper's example as data. The mesh index answering
-//! ray casts and closest points lives here until other modules use it.
+//! baseline), corrected holes, drilling poses, the hole-list CSV and the paper's example as
+//! data. Ray casts and closest points on the panel go through [`crate::mesh::MeshIndex`]
+//! (re-exported here).
 
 mod coons;
 mod correction;
@@ -10,8 +11,8 @@ mod example;
 mod holes_csv;
 mod laser;
 mod poses;
-mod spatial_index;
 
+pub use crate::mesh::{ClosestPoint, MeshIndex, RayHit};
 pub use coons::{arc_tangent_length, CoonsPatch, FergusonCurve, MAX_TANGENT_TO_CHORD};
 pub use correction::{
     closest_parameters, correct_holes, Correction, CorrectionParams, ErrorSurface, Method,
@@ -27,4 +28,3 @@ pub use laser::{
     laser_points, laser_readings, normal_from_lasers, normal_from_points, BeamAim, SensorHead,
 };
 pub use poses::{drilling_path, PoseParams};
-pub use spatial_index::{ClosestPoint, MeshIndex, RayHit};

@@ -5,6 +5,7 @@ mod adjacency;
 mod face_geometry;
 mod import;
 mod orientation;
+mod spatial_index;
 mod stl;
 mod tri_mesh;
 mod weld;
@@ -16,6 +17,7 @@ pub use adjacency::{FaceAdjacency, MAX_FACES, NO_FACE};
 pub use face_geometry::FaceGeometry;
 pub use import::{import_stl, ImportedMesh, MeshReport};
 pub use orientation::{orient_consistently, OrientationReport};
+pub use spatial_index::{ClosestPoint, MeshIndex, RayHit};
 pub use stl::{
     read_stl, read_stl_with_progress, write_stl, StlError, StlFormat, StlImport, StlInfo,
 };

@@ -352,8 +352,6 @@ impl Mesh {
 impl Mesh {
     /// The mesh index for ray casts and closest points, built on first use.
     pub(super) fn drill_index(&self) -> std::rc::Rc<MeshIndex> {
-        self.index
-            .get_or_init(|| std::rc::Rc::new(MeshIndex::new(&self.inner.mesh)))
-            .clone()
+        super::mesh::index_of(&self.index, &self.inner)
     }
 }

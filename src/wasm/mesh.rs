@@ -1,17 +1,79 @@
 //! `Mesh`: an imported STL held on the Rust side (JavaScript must call `free()`).
 
-use super::params::{read_bytes, read_callback, read_index_list};
+use super::params::{read_bytes, read_callback, read_index_list, read_vector3};
 use super::{progress_fn, DistanceField, Segmentation, SprayPlan};
-use crate::mesh::{import_stl, ImportedMesh};
+use crate::math::{Compact, Point3, Real, Vector3};
+use crate::mesh::{import_stl, ImportedMesh, MeshIndex, RayHit};
+use std::cell::OnceCell;
 use std::rc::Rc;
 use wasm_bindgen::prelude::*;
+
+/// The ray-cast and closest-point index of one mesh, built by the first query that needs it
+/// (a pick, a drilling query) and shared by the `Mesh` and its segmentations; it is dropped
+/// with the last of them.
+pub(super) type SharedIndex = Rc<OnceCell<Rc<MeshIndex>>>;
+
+/// The index in `cell`, built from `mesh` on first use.
+pub(super) fn index_of(cell: &SharedIndex, mesh: &ImportedMesh) -> Rc<MeshIndex> {
+    cell.get_or_init(|| Rc::new(MeshIndex::new(&mesh.mesh)))
+        .clone()
+}
+
+/// A ray read from JavaScript: `origin` and `direction` as three finite numbers each, the
+/// direction not zero. Messages name the argument.
+pub(super) fn read_ray(
+    origin: &JsValue,
+    direction: &JsValue,
+) -> Result<(Point3, Vector3), JsError> {
+    let finite = |value: &JsValue, name: &str| -> Result<[f64; 3], JsError> {
+        let v = read_vector3(value, name)?;
+        match v.iter().position(|x| !x.is_finite()) {
+            Some(i) => Err(JsError::new(&format!(
+                "{name}[{i}] must be a finite number, got {}",
+                Compact(v[i])
+            ))),
+            None => Ok(v),
+        }
+    };
+    let o = finite(origin, "origin")?;
+    let d = finite(direction, "direction")?;
+    let length = Vector3::from(d).norm();
+    if !(length > 0.0 && length.is_finite()) {
+        return Err(JsError::new(&format!(
+            "direction must be a non-zero vector of finite length, got [{}, {}, {}]",
+            Compact(d[0]),
+            Compact(d[1]),
+            Compact(d[2])
+        )));
+    }
+    Ok((Point3::from(o), Vector3::from(d)))
+}
+
+/// `{ face, point: [x, y, z], distance }` (plus `patch` when given) as a JavaScript object.
+pub(super) fn hit_to_js(hit: &RayHit, patch: Option<i32>) -> Result<JsValue, JsError> {
+    #[derive(serde::Serialize)]
+    struct Hit {
+        face: u32,
+        point: [Real; 3],
+        distance: Real,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        patch: Option<i32>,
+    }
+    let hit = Hit {
+        face: hit.face as u32,
+        point: hit.point.coords.into(),
+        distance: hit.distance,
+        patch,
+    };
+    Ok(serde_wasm_bindgen::to_value(&hit)?)
+}
 
 /// A welded, consistently wound triangle mesh read from STL.
 #[wasm_bindgen]
 pub struct Mesh {
     pub(super) inner: Rc<ImportedMesh>,
-    /// Ray-cast and closest-point index, built by the first drilling query.
-    pub(super) index: std::cell::OnceCell<Rc<crate::drill::MeshIndex>>,
+    /// Ray-cast and closest-point index, built by the first query that needs it.
+    pub(super) index: SharedIndex,
 }
 
 #[wasm_bindgen]
@@ -30,7 +92,7 @@ impl Mesh {
         let imported = import_stl(&bytes, &mut progress_fn(on_progress))?;
         Ok(Mesh {
             inner: Rc::new(imported),
-            index: std::cell::OnceCell::new(),
+            index: SharedIndex::default(),
         })
     }
 
@@ -73,7 +135,26 @@ impl Mesh {
         // All JavaScript input is read (through imports that catch exceptions) before any work.
         let params = super::segment::params_from_js(&params)?;
         let on_progress = read_callback(on_progress, "onProgress")?;
-        Segmentation::new(self.inner.clone(), &params, on_progress)
+        Segmentation::new(self.inner.clone(), self.index.clone(), &params, on_progress)
+    }
+
+    /// The first triangle hit by the ray `origin + t·direction`, t ≥ 0, from either side:
+    /// `{ face, point: [x, y, z], distance }` (distance along the unit direction), or `null`
+    /// on a miss. `origin` and `direction` are three finite numbers each (an array or a
+    /// Float64Array), the direction not zero; anything else throws an `Error` naming it. The
+    /// index it searches is built by the first call (O(n log n)) and kept until `free()`.
+    #[wasm_bindgen(unchecked_return_type = "RayHit | null")]
+    pub fn raycast(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] origin: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] direction: JsValue,
+    ) -> Result<JsValue, JsError> {
+        let (origin, direction) = read_ray(&origin, &direction)?;
+        let index = index_of(&self.index, &self.inner);
+        match index.cast_ray(&origin, &direction, Real::INFINITY) {
+            Some(hit) => hit_to_js(&hit, None),
+            None => Ok(JsValue::NULL),
+        }
     }
 
     /// Plans spray passes over `faces` (default: every triangle), predicts the coating and,

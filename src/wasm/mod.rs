@@ -65,6 +65,9 @@ export interface HoleCorrection {
 }
 /** Closest mesh points (flat xyz), interpolated unit normals (mesh winding), distances. */
 export interface ClosestPoints { points: Float64Array; normals: Float64Array; distances: Float64Array }
+/** A ray's first hit: face id, point, distance along the unit direction (model units), and
+ *  with `Segmentation.raycast` the face's patch (−1 = dropped). */
+export interface RayHit { face: number; point: [number, number, number]; distance: number; patch?: number }
 /** One kept patch; ids by decreasing area. */
 export interface Patch {
   id: number; triangleCount: number; area: number; normal: [number, number, number];

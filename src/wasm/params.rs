@@ -320,40 +320,9 @@ impl ParamReader {
 
     /// Three numbers `[x, y, z]` (an array or a typed array of length 3).
     pub fn optional_vector3(&self, key: &'static str) -> Result<Option<[f64; 3]>, ArgError> {
-        let Some(v) = self.get(key)? else {
-            return Ok(None);
-        };
-        let wanted = "three numbers [x, y, z]";
-        let is_list = is_array(&v).unwrap_or(false)
-            || v.is_instance_of::<js_sys::Float64Array>()
-            || v.is_instance_of::<js_sys::Float32Array>();
-        if !is_list {
-            return Err(self.wrong_type(key, wanted, &v));
-        }
-        let length = Reflect::get(&v, &"length".into())
-            .ok()
-            .and_then(|l| l.as_f64());
-        if length != Some(3.0) {
-            return Err(self.wrong_type(key, wanted, &v));
-        }
-        let mut out = [0.0; 3];
-        for (i, slot) in out.iter_mut().enumerate() {
-            let item = Reflect::get_u32(&v, i as u32).map_err(|e| {
-                ArgError(format!(
-                    "reading {}[{i}] threw: {}",
-                    self.name(key),
-                    exception_message(&e)
-                ))
-            })?;
-            *slot = item.as_f64().ok_or_else(|| {
-                ArgError(format!(
-                    "{}[{i}] must be a number, got {}",
-                    self.name(key),
-                    describe(&item)
-                ))
-            })?;
-        }
-        Ok(Some(out))
+        self.get(key)?
+            .map(|v| read_vector3(&v, &self.name(key)))
+            .transpose()
     }
 
     /// The raw value of `key` (`None` when absent or `undefined`), for a caller that
@@ -461,6 +430,46 @@ pub(crate) fn integer(value: &JsValue, name: &str, min: i64, max: i64) -> Result
         )));
     }
     Ok(x as i64)
+}
+
+/// Three numbers `[x, y, z]`: an array, a `Float64Array` or a `Float32Array` of length 3
+/// (NaN and ±Infinity pass: callers refuse them with what they allow). `name` names the
+/// value in messages.
+pub(crate) fn read_vector3(value: &JsValue, name: &str) -> Result<[f64; 3], ArgError> {
+    let wanted = || {
+        ArgError(format!(
+            "{name} must be three numbers [x, y, z], got {}",
+            describe(value)
+        ))
+    };
+    let is_list = is_array(value).unwrap_or(false)
+        || value.is_instance_of::<js_sys::Float64Array>()
+        || value.is_instance_of::<js_sys::Float32Array>();
+    if !is_list {
+        return Err(wanted());
+    }
+    let length = Reflect::get(value, &"length".into())
+        .ok()
+        .and_then(|l| l.as_f64());
+    if length != Some(3.0) {
+        return Err(wanted());
+    }
+    let mut out = [0.0; 3];
+    for (i, slot) in out.iter_mut().enumerate() {
+        let item = Reflect::get_u32(value, i as u32).map_err(|e| {
+            ArgError(format!(
+                "reading {name}[{i}] threw: {}",
+                exception_message(&e)
+            ))
+        })?;
+        *slot = item.as_f64().ok_or_else(|| {
+            ArgError(format!(
+                "{name}[{i}] must be a number, got {}",
+                describe(&item)
+            ))
+        })?;
+    }
+    Ok(out)
 }
 
 /// Largest byte array the engine takes. A single wasm32 allocation cannot exceed
@@ -582,8 +591,12 @@ pub(crate) fn read_number_list(
     group: u32,
 ) -> Result<Vec<f64>, ArgError> {
     let wanted = || {
+        let per = match group {
+            1 => String::new(),
+            _ => format!(" ({group} per point)"),
+        };
         format!(
-            "{name} must be a Float64Array or an array of numbers ({group} per point), got {}",
+            "{name} must be a Float64Array or an array of numbers{per}, got {}",
             describe(value)
         )
     };

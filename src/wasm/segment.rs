@@ -1,8 +1,9 @@
 //! `Segmentation`: the patches of one `Mesh.segment` call (JavaScript must call `free()`).
 
-use super::params::{describe, integer, ParamReader};
+use super::mesh::{hit_to_js, index_of, read_ray, SharedIndex};
+use super::params::{describe, integer, read_number_list, ParamReader};
 use super::progress_fn;
-use crate::math::Compact;
+use crate::math::{Compact, Real};
 use crate::mesh::ImportedMesh;
 use crate::segment::{
     segment_with_progress, Checked, GrindParams, GrowthThreshold, ParamsSpec, SeedRule,
@@ -78,12 +79,15 @@ pub(crate) fn params_from_js(params: &JsValue) -> Result<SegmentParams, JsError>
 #[wasm_bindgen]
 pub struct Segmentation {
     mesh: Rc<ImportedMesh>,
+    /// The mesh's ray-cast index, shared with the `Mesh` (built by the first pick).
+    index: SharedIndex,
     inner: crate::segment::Segmentation,
 }
 
 impl Segmentation {
     pub(crate) fn new(
         mesh: Rc<ImportedMesh>,
+        index: SharedIndex,
         params: &SegmentParams,
         on_progress: Option<js_sys::Function>,
     ) -> Result<Segmentation, JsError> {
@@ -93,7 +97,7 @@ impl Segmentation {
             params,
             &mut progress_fn(on_progress),
         )?;
-        Ok(Segmentation { mesh, inner })
+        Ok(Segmentation { mesh, index, inner })
     }
 }
 
@@ -176,6 +180,49 @@ impl Segmentation {
                     .patch_stl(&self.mesh.mesh, id)
                     .ok_or_else(|| no_patch(&id))
             }
+        }
+    }
+
+    /// Picking: the first triangle hit by the ray `origin + t·direction`, t ≥ 0, whose patch
+    /// is not in `hidden` (patch ids; −1 stands for the dropped triangles): `{ face, point:
+    /// [x, y, z], distance, patch }` (patch −1 for a dropped triangle), or `null`. Rays pass
+    /// through hidden patches. Arguments as in `Mesh.raycast`; `hidden` is an array of whole
+    /// numbers from −1 to `patchCount − 1` (default none), anything else throws an `Error`
+    /// naming it. Shares the mesh's index, built by the first call.
+    #[wasm_bindgen(unchecked_return_type = "RayHit | null")]
+    pub fn raycast(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] origin: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] direction: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "number[]")] hidden: Option<JsValue>,
+    ) -> Result<JsValue, JsError> {
+        let (origin, direction) = read_ray(&origin, &direction)?;
+        let count = self.inner.patches.len();
+        // Slot 0 stands for the dropped triangles, slot p + 1 for patch p.
+        let mut hide = vec![false; count + 1];
+        if let Some(list) = hidden.filter(|v| !v.is_undefined() && !v.is_null()) {
+            for (i, x) in read_number_list(&list, "hidden", 1)?
+                .into_iter()
+                .enumerate()
+            {
+                let id = integer(
+                    &JsValue::from(x),
+                    &format!("hidden[{i}]"),
+                    -1,
+                    count as i64 - 1,
+                )?;
+                hide[(id + 1) as usize] = true;
+            }
+        }
+        let patch_of = &self.inner.patch_of;
+        let slot = |face: usize| (patch_of[face] + 1) as usize;
+        let index = index_of(&self.index, &self.mesh);
+        let hit = index.cast_ray_where(&origin, &direction, Real::INFINITY, |face| {
+            !hide[slot(face)]
+        });
+        match hit {
+            Some(hit) => hit_to_js(&hit, Some(patch_of[hit.face])),
+            None => Ok(JsValue::NULL),
         }
     }
 

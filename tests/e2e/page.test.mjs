@@ -34,6 +34,25 @@ test('the page opens with the sample aircraft segmented and drawn', async () => 
   await page.screenshot({ path: join(outputDir, 'e2e-sample.png') });
 });
 
+test('a lost WebGL context comes back with the model drawn again', async () => {
+  // The page lets go of the model's arrays once they are on the GPU, so a restored context
+  // asks the worker for them again.
+  const before = Number(await page.evaluate(() => document.body.dataset.segmentations));
+  await page.evaluate(() => new Promise((resolve) => {
+    const canvas = document.querySelector('#viewer canvas');
+    const lose = canvas.getContext('webgl2').getExtension('WEBGL_lose_context');
+    canvas.addEventListener('webglcontextlost', () => setTimeout(() => lose.restoreContext(), 100), { once: true });
+    canvas.addEventListener('webglcontextrestored', () => resolve(), { once: true });
+    lose.loseContext();
+  }));
+  await page.waitForTimeout(200); // the redraw job starts
+  await waitForReady(page);
+  const { painted, total } = await paintedPixels(page, join(outputDir, 'e2e-canvas-restored.png'));
+  assert.ok(painted > total * 0.03, `the canvas shows the model again (${painted} of ${total} pixels painted)`);
+  assert.ok((await rowCount()) > 0, 'the patches are kept');
+  assert.equal(Number(await page.evaluate(() => document.body.dataset.segmentations)), before, 'not re-segmented');
+});
+
 test('the content security policy allows exactly the import map', () => {
   // The page forbids inline scripts except the import map, by hash: keep them in step.
   const html = readFileSync(join(repoRoot, 'www', 'index.html'), 'utf8');

@@ -174,7 +174,8 @@ test('clicked points on the surface become the source', async () => {
   for (const dx of [-60, 0, 60]) {
     await page.mouse.click(box.x + box.width / 2 + dx, box.y + box.height / 2 - 150);
   }
-  assert.match(await page.textContent('#paths-points'), /^3 points clicked/);
+  // The worker answers picks: wait for the three answers, which arrive in click order.
+  await page.waitForFunction(() => /^3 points clicked/.test(document.getElementById('paths-points').textContent));
   await page.click('#paths-undo-point');
   assert.match(await page.textContent('#paths-points'), /^2 points clicked/);
   await page.click('#paths-run');

@@ -23,6 +23,9 @@ test('the generated TypeScript declarations name the whole API', () => {
     'readonly patchCount: number', 'readonly threshold: number', 'readonly thresholdKind: string',
     'patchOf(): Int32Array', 'patches(): Patch[]', 'borderSegments(): Float32Array', 'borderPatches(): Int32Array',
     'patchStl(id: number): Uint8Array', 'export function deriveThreshold(params: SegmentParams): Threshold;',
+    'raycast(origin: Float64Array | number[], direction: Float64Array | number[]): RayHit | null',
+    'raycast(origin: Float64Array | number[], direction: Float64Array | number[], hidden?: number[]): RayHit | null',
+    'export interface RayHit {',
     'export function wasmMemoryBytes(): number', 'free(): void', 'export interface MeshReport {',
     'export interface Patch {', 'export type ProgressCallback = (stage: string, fraction: number) => void;']) {
     assert.ok(dts.includes(name), `skinpath.d.ts lacks "${name}"`);
@@ -61,6 +64,64 @@ test('a real aircraft imports, reports and segments with progress', () => {
   const sides = seg.borderPatches();
   assert.equal(sides.length, borders.length / 3);
   assert.ok(sides.every((p) => p >= -1 && p < patches.length));
+  seg.free();
+  mesh.free();
+});
+
+/** Binary STL of flat float triples (9 per triangle). */
+function stlOf(triangles) {
+  const count = triangles.length / 9;
+  const view = new DataView(new ArrayBuffer(84 + 50 * count));
+  view.setUint32(80, count, true);
+  for (let t = 0; t < count; t++) {
+    for (let k = 0; k < 9; k++) view.setFloat32(84 + 50 * t + 12 + 4 * k, triangles[9 * t + k], true);
+  }
+  return new Uint8Array(view.buffer);
+}
+
+test('raycast: the first face along a ray, passing through hidden patches', () => {
+  // Two 10 × 10 squares, at z = 0 and z = 2 (two triangles each, not connected).
+  const square = (z) => [0, 0, z, 10, 0, z, 10, 10, z, 0, 0, z, 10, 10, z, 0, 10, z];
+  const mesh = Mesh.fromStl(stlOf([...square(0), ...square(2)]));
+  const origin = [3, 6, 5];
+  const down = new Float64Array([0, 0, -4]); // not unit: distances are along the unit direction
+  const top = mesh.raycast(origin, down);
+  assert.deepEqual(top.point, [3, 6, 2]);
+  assert.equal(top.distance, 3);
+  assert.ok(top.face === 2 || top.face === 3, `face ${top.face} is on the upper square`);
+  assert.equal('patch' in top, false);
+  assert.equal(mesh.raycast(origin, [0, 0, 1]), null, 'nothing above');
+  assert.equal(mesh.raycast([20, 20, 5], down), null, 'beside the squares');
+
+  const seg = mesh.segment({ angleThreshold: 0.1, minAreaRatio: 0 });
+  assert.equal(seg.patchCount, 2);
+  const patchOf = seg.patchOf();
+  const upper = patchOf[top.face];
+  const lower = patchOf[0];
+  assert.notEqual(upper, lower);
+  assert.deepEqual(seg.raycast(origin, down), { ...top, patch: upper });
+  const through = seg.raycast(origin, down, [upper]);
+  assert.deepEqual([through.point, through.distance, through.patch], [[3, 6, 0], 5, lower]);
+  assert.ok(through.face === 0 || through.face === 1);
+  assert.equal(seg.raycast(origin, down, [lower, upper, -1]), null);
+  assert.deepEqual(seg.raycast(origin, down, []), seg.raycast(origin, down, null));
+
+  // Bad rays and hidden lists are refused by name; the objects keep working.
+  for (const [call, message] of [
+    [() => mesh.raycast([0, 0], down), /^origin must be three numbers \[x, y, z\], got an array$/],
+    [() => mesh.raycast('0,0,0', down), /^origin must be three numbers \[x, y, z\], got the string "0,0,0"$/],
+    [() => mesh.raycast([0, NaN, 0], down), /^origin\[1\] must be a finite number, got NaN$/],
+    [() => mesh.raycast(origin, [0, 0, 0]), /^direction must be a non-zero vector of finite length, got \[0, 0, 0\]$/],
+    [() => mesh.raycast(origin, [1e308, 1e308, 0]), /^direction must be a non-zero vector of finite length/],
+    [() => mesh.raycast(origin), /^direction must be three numbers \[x, y, z\], got undefined$/],
+    [() => mesh.raycast(origin, [0, '1', 0]), /^direction\[1\] must be a number, got the string "1"$/],
+    [() => seg.raycast(origin, down, [2]), /^hidden\[0\] must be a whole number from -1 to 1, got 2$/],
+    [() => seg.raycast(origin, down, [0, 0.5]), /^hidden\[1\] must be a whole number from -1 to 1, got 0\.5$/],
+    [() => seg.raycast(origin, down, 'all'), /^hidden must be a Float64Array or an array of numbers, got the string "all"$/],
+  ]) {
+    assert.throws(call, (e) => e instanceof Error && message.test(e.message), String(message));
+  }
+  assert.equal(mesh.raycast(origin, down).distance, 3);
   seg.free();
   mesh.free();
 });

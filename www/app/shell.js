@@ -258,6 +258,9 @@ class Shell {
         await fn((stage, fraction) => {
           if (this.#epoch === myEpoch) this.showProgress(stage, fraction);
         }, checkpoint);
+        // A job is done when the view shows its result: a large model reaches WebGL in
+        // chunks over a few frames (viewer.js).
+        await this.viewer?.drawn();
       } catch (error) {
         if (error instanceof SupersededError) {
           // a later load replaced this one: its own job reports
@@ -707,6 +710,8 @@ class Shell {
     for (const button of document.querySelectorAll('.view-toolbar [data-view]')) {
       button.addEventListener('click', () => this.viewer.setView(button.dataset.view));
     }
+    this.viewer.setRayPicker((origin, direction, hidden, options) => this.#pick(origin, direction, hidden, options));
+    this.viewer.addEventListener('modellost', () => this.#redraw());
     this.viewer.addEventListener('hover', (event) => this.#onHover(event.detail));
     this.viewer.addEventListener('pick', (event) => {
       const id = event.detail.patchId;
@@ -717,6 +722,41 @@ class Shell {
     $('alert-dismiss').addEventListener('click', () => this.hideAlert());
     document.addEventListener('keydown', (event) => this.#onShortcut(event));
     window.addEventListener('hashchange', () => this.#onHashChange());
+  }
+
+  /**
+   * Asks the worker which patch a ray (model coordinates) hits first, passing through
+   * `hidden` patches: { patchId, point } or null. The request queues behind running work (a
+   * click waits for its answer). While the worker has no mesh (a file loading) it is a miss;
+   * after Cancel, a click (not a hover) first gives the new worker the model on screen again.
+   * A failure only costs the pick.
+   */
+  async #pick(origin, direction, hidden, { click }) {
+    const ask = () => this.engine.request('pick', { origin, direction, hidden });
+    try {
+      if (this.engine?.hasMesh) return await ask();
+      if (!click || !this.state.model || this.busy) return null;
+      let hit = null;
+      await this.enqueue('Preparing the model for picking', async (progress, checkpoint) => {
+        await this.restoreEngine(progress, checkpoint);
+        hit = await ask();
+      });
+      return hit;
+    } catch {
+      return null;
+    }
+  }
+
+  /** The view lost its WebGL context and with it the model: the worker sends it again. */
+  #redraw() {
+    if (!this.state.model) return;
+    this.enqueue('Drawing the model again', async (progress, checkpoint) => {
+      await this.restoreEngine(progress, checkpoint);
+      const display = await this.engine.request('display', {}, { onProgress: progress });
+      checkpoint();
+      this.viewer.setModel(display, { keepView: true });
+      this.syncViewer();
+    });
   }
 
   #onHover({ patchId, clientX, clientY }) {

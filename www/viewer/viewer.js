@@ -1,30 +1,28 @@
-// The 3D view: the only module (with picking.js) that imports three.js.
+// The 3D view: the only module that imports three.js.
 // Tools draw their own results as layers (setLayer): line sets and unlit coloured surfaces
 // in the file's frame, turned with the model; they never touch three.js themselves.
-// One non-indexed geometry holds the whole mesh, triangles grouped by patch (see worker.js),
-// coloured per vertex. Visibility and highlighting only rewrite the geometry's draw groups
-// (a handful of ranges), so they stay instant at a million triangles.
+// The mesh is one non-indexed triangle soup, triangles grouped by patch (see worker.js),
+// coloured per vertex, drawn as chunks of CHUNK_TRIANGLES that share its arrays. Visibility
+// and highlighting only rewrite the chunks' draw groups (a handful of ranges), so they stay
+// instant at millions of triangles. Nothing here walks the triangles: the worker sends the
+// buffers, colours, per-patch boxes and the bounding sphere, and answers picks
+// (setRayPicker) with the core's ray-cast index.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { PatchPicker } from './picking.js';
+import { patchColor } from './palette.js';
 
-/**
- * Patch colours: Okabe & Ito's colour-blind-safe set (black and grey left out), then the
- * darker colours of Paul Tol's "muted" scheme. Grey is reserved for dropped triangles.
- * Colours repeat after twelve patches; the border lines keep neighbours apart.
- */
-export const PATCH_COLORS = [
-  '#0072B2', '#E69F00', '#009E73', '#CC79A7', '#56B4E9', '#D55E00',
-  '#F0E442', '#882255', '#44AA99', '#332288', '#999933', '#AA4499',
-];
-export const DROPPED_COLOR = '#A0A4A8';
-
-/** CSS colour of a patch id (-1 = dropped). */
-export function patchColor(id) {
-  return id < 0 ? DROPPED_COLOR : PATCH_COLORS[id % PATCH_COLORS.length];
-}
+export { DROPPED_COLOR, PATCH_COLORS, patchColor } from './palette.js';
 
 const BACKGROUND = 0xe9edf1;
+/**
+ * Triangles per draw chunk. WebGL copies a chunk's buffers in one call on the first frame
+ * that draws it, and the page cannot go on until the GPU process has taken them, so chunks
+ * join the scene one at a time, each once the GPU has finished all earlier work (a fence):
+ * 2^17 triangles are 6 MB of attributes. (Handing over four million triangles at once held
+ * the page for about 280 ms in headless SwiftShader; chunks of 2^18 without the fence, for
+ * 60 to 180 ms each, and up to 300 ms when the GPU was still drawing.)
+ */
+const CHUNK_TRIANGLES = 1 << 17;
 // Material slots of the draw groups. While a patch is selected the others are dimmed, so the
 // selection stands out in its own, unchanged colour.
 const BASE = 0;
@@ -65,7 +63,14 @@ export class Viewer extends EventTarget {
   #camera = new THREE.PerspectiveCamera(40, 1, 0.01, 1000);
   #controls;
   #model = new THREE.Group(); // turned by the up-axis setting
-  #mesh = null;
+  #surface = null; // Group of the chunk meshes of the model
+  #chunks = []; // chunk meshes, each with userData { start, end } in triangles
+  #pendingChunks = []; // chunks not yet in the scene (see #feedChunks)
+  #fence = null; // WebGLSync after the last chunk's upload, or after the previous model
+  #feedToken = 0; // bumped by setModel: an older model's #feedChunks loop stops
+  #drawnWaiters = []; // resolve functions of drawn() promises
+  #sphere = new THREE.Sphere(); // bounding sphere of the model, file frame
+  #warmObjects = []; // keep the programs compiled at start-up cached (see #warmUpPrograms)
   #borders = null;
   #materials = [surfaceMaterial(0), surfaceMaterial(0.14), surfaceMaterial(0.06),
     surfaceMaterial(0, 0x8c8c8c), surfaceMaterial(0.14, 0x8c8c8c)];
@@ -74,7 +79,8 @@ export class Viewer extends EventTarget {
   #state = { hidden: new Set(), selected: null, hovered: null, showBorders: true };
   #borderPatches = new Int32Array(0); // two patch ids per border segment
   #borderHiddenKey = '';
-  #picker = new PatchPicker();
+  #boxes = new Float32Array(0); // per bucket: min xyz, max xyz
+  #rayPicker = null; // see setRayPicker
   #raycaster = new THREE.Raycaster();
   #renderQueued = false;
   #sceneRadius = 1; // bounding radius of the whole model: bounds the far plane
@@ -110,12 +116,20 @@ export class Viewer extends EventTarget {
     this.#controls.addEventListener('change', () => this.#onCameraChange());
     this.#controls.listenToKeyEvents(canvas); // arrow keys pan while the view has focus
     this.#gizmo = new AxisGizmo();
+    this.#warmUpPrograms();
 
     new ResizeObserver(() => this.#resize()).observe(container);
     this.#resize();
     this.#listenForPicks(canvas);
     canvas.addEventListener('webglcontextlost', (event) => event.preventDefault());
-    canvas.addEventListener('webglcontextrestored', () => this.requestRender());
+    canvas.addEventListener('webglcontextrestored', () => {
+      // The model's arrays were let go once on the GPU: ask for them again ('modellost').
+      if (this.#surface) {
+        this.#disposeModel();
+        this.dispatchEvent(new CustomEvent('modellost'));
+      }
+      this.requestRender();
+    });
   }
 
   get canvas() {
@@ -123,26 +137,54 @@ export class Viewer extends EventTarget {
   }
 
   /**
-   * Shows a mesh: display = { positions, ranges, borders, borderPatches } from the worker
-   * (file frame).
-   * `keepView` keeps the camera (re-segmenting the same model); otherwise the view is fitted.
+   * Picking goes through `fn(origin, direction, hidden, { click })` → Promise of { patchId,
+   * point } or null: the ray in the model's coordinates (file frame, direction not
+   * normalised), the hidden patch ids (-1 = dropped), which the ray passes through, and
+   * whether a click (rather than a hover) asks.
+   */
+  setRayPicker(fn) {
+    this.#rayPicker = fn;
+  }
+
+  /**
+   * Shows a mesh: display = { positions, colors, ranges, boxes, sphere, borders,
+   * borderPatches } from the worker (file frame; see worker.js). The arrays are used, not
+   * copied, and the positions and colours are let go once on the GPU. `keepView` keeps the
+   * camera (re-segmenting the same model); otherwise the view is fitted. Emits 'modellost'
+   * when a lost WebGL context comes back: the caller then sets the model again.
    */
   setModel(display, { keepView = false } = {}) {
     this.#disposeModel();
-    const { positions, ranges, borders, borderPatches } = display;
+    const { positions, colors, ranges, boxes, sphere, borders, borderPatches } = display;
     this.#ranges = ranges;
+    this.#boxes = boxes;
     this.#borderPatches = borderPatches;
     this.#borderHiddenKey = '';
 
-    const geometry = new THREE.BufferGeometry();
-    const position = new THREE.BufferAttribute(positions, 3);
-    geometry.setAttribute('position', position);
-    geometry.setAttribute('color', new THREE.BufferAttribute(this.#colors(ranges, positions.length / 3), 3, true));
-    geometry.computeBoundingSphere();
-    this.#sceneRadius = Math.max(geometry.boundingSphere.radius, 1e-9);
-    this.#mesh = new THREE.Mesh(geometry, this.#materials);
-    this.#mesh.raycast = () => {}; // picking goes through the BVH, never three's brute force
-    this.#model.add(this.#mesh);
+    this.#sphere = new THREE.Sphere(new THREE.Vector3(sphere[0], sphere[1], sphere[2]), sphere[3]);
+    this.#sceneRadius = Math.max(sphere[3], 1e-9);
+    this.#surface = new THREE.Group();
+    const triangles = positions.length / 9;
+    for (let start = 0; start < triangles; start += CHUNK_TRIANGLES) {
+      const end = Math.min(triangles, start + CHUNK_TRIANGLES);
+      // Views into the worker's arrays, not copies, let go once WebGL has them: nothing here
+      // reads them again (boxes, sphere and picks come from the worker).
+      const geometry = new THREE.BufferGeometry();
+      const position = new THREE.BufferAttribute(positions.subarray(9 * start, 9 * end), 3);
+      const color = new THREE.BufferAttribute(colors.subarray(9 * start, 9 * end), 3, true);
+      geometry.setAttribute('position', position.onUpload(releaseArray));
+      geometry.setAttribute('color', color.onUpload(releaseArray));
+      geometry.boundingSphere = this.#sphere; // the whole model's: culling stays conservative
+      const chunk = new THREE.Mesh(geometry, this.#materials);
+      chunk.raycast = () => {}; // picking goes to the worker, never three's brute force
+      chunk.userData = { start, end };
+      this.#chunks.push(chunk);
+    }
+    this.#pendingChunks = [...this.#chunks];
+    this.#model.add(this.#surface);
+    this.#fenceGpu(); // the first chunk waits until the GPU is done with the previous model
+    const token = ++this.#feedToken;
+    requestAnimationFrame(() => this.#feedChunks(token));
 
     const lineGeometry = new THREE.BufferGeometry();
     lineGeometry.setAttribute('position', new THREE.BufferAttribute(borders, 3));
@@ -150,18 +192,24 @@ export class Viewer extends EventTarget {
     this.#borders.raycast = () => {};
     this.#model.add(this.#borders);
 
-    this.#picker.setGeometry(position, ranges);
-    // Build the picking BVH while the user looks at the result, not on the first hover
-    // (about 0.4 s at a million triangles).
-    const picker = this.#picker;
-    const whenIdle = window.requestIdleCallback ?? ((callback) => setTimeout(callback, 300)); // Safari has none
-    whenIdle(() => picker.prepare(), { timeout: 1500 });
     this.#state.hidden = new Set();
     this.#state.selected = null;
     this.#state.hovered = null;
     this.#applyState();
     if (!keepView) this.fit(VIEWS.iso);
     this.requestRender();
+  }
+
+  /** Resolves once the model on screen is wholly in WebGL (at once when nothing is pending). */
+  drawn() {
+    if (!this.#pendingChunks.length) return Promise.resolve();
+    return new Promise((resolve) => this.#drawnWaiters.push(resolve));
+  }
+
+  #resolveDrawn() {
+    const waiters = this.#drawnWaiters;
+    this.#drawnWaiters = [];
+    for (const resolve of waiters) resolve();
   }
 
   /** Updates what is drawn: { hidden: Set<id> (-1 = dropped), selected, hovered, showBorders }. */
@@ -176,7 +224,7 @@ export class Viewer extends EventTarget {
     this.#model.rotation.set(axis === 'z' ? -Math.PI / 2 : 0, 0, 0);
     this.#model.updateMatrixWorld(true);
     this.#gizmo.setUpAxis(axis);
-    if (this.#mesh) this.fit(this.#viewDirection());
+    if (this.#surface) this.fit(this.#viewDirection());
     this.requestRender();
   }
 
@@ -187,22 +235,21 @@ export class Viewer extends EventTarget {
 
   /** Frames the visible model, looking along `direction` (target → camera). */
   fit(direction = this.#viewDirection()) {
-    if (!this.#mesh) return;
-    const sphere = this.#mesh.geometry.boundingSphere.clone().applyMatrix4(this.#mesh.matrixWorld);
+    if (!this.#surface) return;
+    const sphere = this.#sphere.clone().applyMatrix4(this.#surface.matrixWorld);
     this.#frameSphere(sphere, direction);
   }
 
   /**
-   * Frames one patch (three.js computes its bounding box from its triangle range), looking
-   * from `normal` (file frame, e.g. the patch's mean normal) when given.
+   * Frames one patch (its bounding box comes from the worker), looking from `normal` (file
+   * frame, e.g. the patch's mean normal) when given.
    */
   fitPatch(id, normal = null) {
-    if (!this.#mesh || id === null || id < 0) return;
-    const start = this.#ranges[2 * id];
-    const count = this.#ranges[2 * id + 1];
-    const positions = this.#mesh.geometry.attributes.position.array.subarray(9 * start, 9 * (start + count));
-    const box = new THREE.Box3().setFromBufferAttribute(new THREE.BufferAttribute(positions, 3));
-    const sphere = box.getBoundingSphere(new THREE.Sphere()).applyMatrix4(this.#mesh.matrixWorld);
+    if (!this.#surface || id === null || id < 0 || 6 * id + 6 > this.#boxes.length) return;
+    const b = this.#boxes.subarray(6 * id, 6 * id + 6);
+    if (!(b[0] <= b[3])) return; // an empty patch
+    const box = new THREE.Box3(new THREE.Vector3(b[0], b[1], b[2]), new THREE.Vector3(b[3], b[4], b[5]));
+    const sphere = box.getBoundingSphere(new THREE.Sphere()).applyMatrix4(this.#surface.matrixWorld);
     let direction = this.#viewDirection();
     if (normal) {
       // Slightly off the normal, so that the surface's relief still shows.
@@ -223,23 +270,7 @@ export class Viewer extends EventTarget {
    */
   setLayer(id, spec) {
     this.removeLayer(id);
-    const geometry = new THREE.BufferGeometry();
-    geometry.setAttribute('position', new THREE.BufferAttribute(spec.positions, 3));
-    if (spec.colors) geometry.setAttribute('color', new THREE.BufferAttribute(linearColors(spec.colors), 3));
-    let object;
-    if (spec.kind === 'surface') {
-      geometry.setIndex(new THREE.BufferAttribute(spec.indices, 1));
-      object = new THREE.Mesh(geometry, new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide }));
-    } else {
-      const common = { vertexColors: Boolean(spec.colors), color: spec.colors ? 0xffffff : spec.color ?? '#000000' };
-      const material = spec.dashed
-        ? new THREE.LineDashedMaterial({ ...common, dashSize: spec.dashSize ?? 1, gapSize: spec.dashSize ?? 1 })
-        : new THREE.LineBasicMaterial(common);
-      object = new THREE.LineSegments(geometry, material);
-      if (spec.dashed) object.computeLineDistances();
-    }
-    object.raycast = () => {}; // picking stays on the model's patches
-    object.renderOrder = spec.kind === 'surface' ? 1 : 2;
+    const object = layerObject(spec);
     this.#layers.set(id, object);
     this.#model.add(object);
     this.requestRender();
@@ -279,6 +310,73 @@ export class Viewer extends EventTarget {
     });
   }
 
+  /**
+   * Compiles and links, once at start-up, the shader program of every kind of object the
+   * view draws (model, borders, each kind of layer). Checking a program's link status makes
+   * the page wait until the GPU has finished all the work queued before it, which on a
+   * software GPU drawing millions of triangles takes seconds; a program first needed later
+   * (a tool's first layer) would freeze the page that long. The objects stay referenced so
+   * that their programs stay in three.js's cache.
+   */
+  #warmUpPrograms() {
+    const three = new Float32Array([0, 0, 0, 1e-6, 0, 0, 0, 1e-6, 0]);
+    const rgb = new Uint8Array(9);
+    const lines = new THREE.BufferGeometry().setAttribute('position', new THREE.BufferAttribute(three.slice(0, 6), 3));
+    const surface = new THREE.BufferGeometry()
+      .setAttribute('position', new THREE.BufferAttribute(three, 3))
+      .setAttribute('color', new THREE.BufferAttribute(rgb, 3, true));
+    const objects = [
+      ...this.#materials.map((m) => new THREE.Mesh(surface, m)),
+      new THREE.LineSegments(lines, this.#borderMaterial),
+      ...[false, true].flatMap((dashed) => [
+        layerObject({ kind: 'lines', positions: three.slice(0, 6), color: '#000000', dashed }),
+        layerObject({ kind: 'lines', positions: three.slice(0, 6), colors: rgb.slice(0, 6), dashed }),
+      ]),
+      layerObject({ kind: 'surface', positions: three, indices: new Uint32Array([0, 1, 2]), colors: rgb }),
+    ];
+    for (const object of objects) object.frustumCulled = false;
+    this.#warmObjects = objects;
+    this.#model.add(...objects);
+    this.#render();
+    this.#model.remove(...objects);
+  }
+
+  /** Puts a fence after the GPU work queued so far (replacing any earlier fence). */
+  #fenceGpu() {
+    const gl = this.#renderer.getContext();
+    if (this.#fence) gl.deleteSync(this.#fence);
+    this.#fence = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
+    gl.flush();
+  }
+
+  /**
+   * Hands the model to WebGL one chunk per animation frame, each only once the GPU has
+   * finished everything queued before (polling the fence does not wait), so that the copy
+   * never queues behind drawing, which a software GPU does slowly. No chunk is drawn until
+   * all are in (#applyState), so nothing but the copies keeps the GPU busy meanwhile.
+   */
+  #feedChunks(token) {
+    if (token !== this.#feedToken || !this.#pendingChunks.length) return;
+    const gl = this.#renderer.getContext();
+    const next = () => requestAnimationFrame(() => this.#feedChunks(token));
+    if (this.#fence && !gl.isContextLost() && gl.getSyncParameter(this.#fence, gl.SYNC_STATUS) !== gl.SIGNALED) {
+      next();
+      return;
+    }
+    this.#surface.add(this.#pendingChunks.shift());
+    if (this.#pendingChunks.length) {
+      this.#render(); // uploads the chunk
+      this.#fenceGpu();
+      next();
+    } else {
+      if (this.#fence) gl.deleteSync(this.#fence);
+      this.#fence = null;
+      this.#applyState();
+      this.requestRender();
+      this.#resolveDrawn();
+    }
+  }
+
   #render() {
     const renderer = this.#renderer;
     renderer.clear();
@@ -286,53 +384,42 @@ export class Viewer extends EventTarget {
     this.#gizmo.render(renderer, this.#camera);
   }
 
-  #colors(ranges, vertexCount) {
-    const colors = new Uint8Array(vertexCount * 3);
-    const c = new THREE.Color();
-    const buckets = ranges.length / 2;
-    for (let b = 0; b < buckets; b++) {
-      // Vertex colours are read as linear values: convert from the sRGB palette.
-      c.set(patchColor(b === buckets - 1 ? -1 : b));
-      const r = Math.round(c.r * 255);
-      const g = Math.round(c.g * 255);
-      const bl = Math.round(c.b * 255);
-      const end = 9 * (ranges[2 * b] + ranges[2 * b + 1]);
-      for (let i = 9 * ranges[2 * b]; i < end; i += 3) {
-        colors[i] = r;
-        colors[i + 1] = g;
-        colors[i + 2] = bl;
-      }
-    }
-    return colors;
-  }
-
   #isVisible(id) {
     return !this.#state.hidden.has(id < 0 ? -1 : id);
   }
 
-  /** Rebuilds draw groups: visible buckets only, consecutive ones with equal looks merged. */
+  /**
+   * Rebuilds each chunk's draw groups: the visible buckets' triangles within the chunk,
+   * consecutive ones with equal looks merged. O(chunks × patches).
+   */
   #applyState() {
-    if (!this.#mesh) return;
+    if (!this.#surface) return;
     const { selected, hovered, showBorders } = this.#state;
-    const geometry = this.#mesh.geometry;
-    geometry.clearGroups();
     const buckets = this.#ranges.length / 2;
-    let open = null;
-    for (let b = 0; b < buckets; b++) {
-      const id = b === buckets - 1 ? -1 : b;
-      const count = this.#ranges[2 * b + 1];
-      if (count === 0 || !this.#isVisible(id)) {
-        open = null;
-        continue;
-      }
-      const dim = selected !== null && id !== selected;
-      const hover = id === hovered && id >= 0;
-      const material = id === selected ? SELECTED : dim ? (hover ? DIM_HOVER : DIM) : hover ? HOVER : BASE;
-      if (open && open.materialIndex === material) {
-        open.count += 3 * count;
-      } else {
-        open = { start: 3 * this.#ranges[2 * b], count: 3 * count, materialIndex: material };
-        geometry.groups.push(open);
+    for (const chunk of this.#chunks) {
+      const { start, end } = chunk.userData;
+      const geometry = chunk.geometry;
+      geometry.clearGroups();
+      if (this.#pendingChunks.length) continue; // drawn once every chunk is on the GPU
+      let open = null;
+      for (let b = 0; b < buckets; b++) {
+        const id = b === buckets - 1 ? -1 : b;
+        const first = Math.max(start, this.#ranges[2 * b]);
+        const last = Math.min(end, this.#ranges[2 * b] + this.#ranges[2 * b + 1]);
+        if (last <= first || !this.#isVisible(id)) {
+          open = null;
+          continue;
+        }
+        const dim = selected !== null && id !== selected;
+        const hover = id === hovered && id >= 0;
+        const material = id === selected ? SELECTED : dim ? (hover ? DIM_HOVER : DIM) : hover ? HOVER : BASE;
+        const groupStart = 3 * (first - start);
+        if (open && open.materialIndex === material && open.start + open.count === groupStart) {
+          open.count += 3 * (last - first);
+        } else {
+          open = { start: groupStart, count: 3 * (last - first), materialIndex: material };
+          geometry.groups.push(open);
+        }
       }
     }
     this.#applyBorderState(showBorders);
@@ -360,14 +447,19 @@ export class Viewer extends EventTarget {
   }
 
   #disposeModel() {
-    if (this.#mesh) {
-      this.#model.remove(this.#mesh, this.#borders);
-      this.#mesh.geometry.dispose();
+    if (this.#surface) {
+      this.#model.remove(this.#surface, this.#borders);
+      for (const chunk of this.#chunks) chunk.geometry.dispose(); // frees the GPU buffers
       this.#borders.geometry.dispose();
-      this.#mesh = null;
+      this.#surface = null;
       this.#borders = null;
     }
-    this.#picker.clear();
+    this.#chunks = [];
+    this.#pendingChunks = [];
+    this.#resolveDrawn();
+    this.#ranges = new Uint32Array(0);
+    this.#boxes = new Float32Array(0);
+    this.#borderPatches = new Int32Array(0);
   }
 
   /** Unit direction the camera looks along, in the model's coordinates (file axes). */
@@ -414,48 +506,68 @@ export class Viewer extends EventTarget {
     this.requestRender();
   }
 
-  #pickAt(clientX, clientY) {
-    if (!this.#mesh) return null;
+  /** The patch under a point of the canvas: Promise of { patchId, point } or null (a miss). */
+  async #pickAt(clientX, clientY, click = false) {
+    if (!this.#surface || !this.#rayPicker) return null;
     const rect = this.canvas.getBoundingClientRect();
     const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
     this.#raycaster.setFromCamera(ndc, this.#camera);
-    return this.#picker.pick(this.#raycaster, this.#mesh, (id) => this.#isVisible(id));
+    const surface = this.#surface;
+    const toModel = surface.matrixWorld.clone().invert();
+    const ray = this.#raycaster.ray.clone().applyMatrix4(toModel);
+    const hit = await this.#rayPicker(ray.origin.toArray(), ray.direction.toArray(), [...this.#state.hidden], { click });
+    return surface === this.#surface ? hit : null; // the model was replaced meanwhile
   }
 
   /**
    * Emits 'hover' { patchId | null, clientX, clientY } and 'pick' { patchId | null, point }
-   * (point: the hit in the model's coordinates, null on a miss).
+   * (point: the hit in the model's coordinates, null on a miss). Picks are answered by the
+   * worker: hovers keep one request in flight and answer the latest pointer position only;
+   * clicks are answered in order.
    */
   #listenForPicks(canvas) {
     let down = null;
-    let hoverQueued = null;
+    let hoverAt = null; // latest pointer position not yet asked about
+    let hoverBusy = false;
+    let hoverEpoch = 0; // bumped when the pointer leaves: late answers are dropped
     const emit = (type, detail) => this.dispatchEvent(new CustomEvent(type, { detail }));
+    const hoverLoop = async () => {
+      hoverBusy = true;
+      try {
+        while (hoverAt) {
+          const { x, y } = hoverAt;
+          const epoch = hoverEpoch;
+          hoverAt = null;
+          const hit = await this.#pickAt(x, y);
+          if (hoverAt === null && epoch === hoverEpoch) emit('hover', { patchId: hit ? hit.patchId : null, clientX: x, clientY: y });
+        }
+      } finally {
+        hoverBusy = false;
+      }
+    };
     canvas.addEventListener('pointermove', (event) => {
       if (event.buttons !== 0) return; // orbiting, not hovering
-      const queued = hoverQueued === null;
-      hoverQueued = { x: event.clientX, y: event.clientY };
-      if (!queued) return;
-      requestAnimationFrame(() => {
-        const { x, y } = hoverQueued;
-        hoverQueued = null;
-        const hit = this.#pickAt(x, y);
-        emit('hover', { patchId: hit ? hit.patchId : null, clientX: x, clientY: y });
-      });
+      hoverAt = { x: event.clientX, y: event.clientY };
+      if (!hoverBusy) hoverLoop();
     });
-    canvas.addEventListener('pointerleave', () => emit('hover', { patchId: null }));
+    canvas.addEventListener('pointerleave', () => {
+      hoverAt = null;
+      hoverEpoch++;
+      emit('hover', { patchId: null });
+    });
     canvas.addEventListener('pointerdown', (event) => {
       down = { x: event.clientX, y: event.clientY, time: performance.now(), button: event.button };
     });
-    canvas.addEventListener('pointerup', (event) => {
+    canvas.addEventListener('pointerup', async (event) => {
       // A click, not the end of an orbit: little movement, short press, primary button.
       if (!down || down.button !== 0) return;
       const moved = Math.hypot(event.clientX - down.x, event.clientY - down.y);
       if (moved > 4 || performance.now() - down.time > 600) return;
-      const hit = this.#pickAt(event.clientX, event.clientY);
+      const hit = await this.#pickAt(event.clientX, event.clientY, true);
       emit('pick', { patchId: hit ? hit.patchId : null, point: hit ? hit.point : null });
     });
-    canvas.addEventListener('dblclick', (event) => {
-      const hit = this.#pickAt(event.clientX, event.clientY);
+    canvas.addEventListener('dblclick', async (event) => {
+      const hit = await this.#pickAt(event.clientX, event.clientY, true);
       if (hit && hit.patchId >= 0) this.fitPatch(hit.patchId);
     });
   }
@@ -500,6 +612,33 @@ class AxisGizmo {
     const canvas = renderer.domElement;
     renderer.setViewport(0, 0, canvas.width / renderer.getPixelRatio(), canvas.height / renderer.getPixelRatio());
   }
+}
+
+/** BufferAttribute.onUpload callback: the GPU has the data, the page needs no copy. */
+function releaseArray() {
+  this.array = null;
+}
+
+/** A tool layer's three.js object (see Viewer.setLayer). */
+function layerObject(spec) {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(spec.positions, 3));
+  if (spec.colors) geometry.setAttribute('color', new THREE.BufferAttribute(linearColors(spec.colors), 3));
+  let object;
+  if (spec.kind === 'surface') {
+    geometry.setIndex(new THREE.BufferAttribute(spec.indices, 1));
+    object = new THREE.Mesh(geometry, new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide }));
+  } else {
+    const common = { vertexColors: Boolean(spec.colors), color: spec.colors ? 0xffffff : spec.color ?? '#000000' };
+    const material = spec.dashed
+      ? new THREE.LineDashedMaterial({ ...common, dashSize: spec.dashSize ?? 1, gapSize: spec.dashSize ?? 1 })
+      : new THREE.LineBasicMaterial(common);
+    object = new THREE.LineSegments(geometry, material);
+    if (spec.dashed) object.computeLineDistances();
+  }
+  object.raycast = () => {}; // picking stays on the model's patches
+  object.renderOrder = spec.kind === 'surface' ? 1 : 2;
+  return object;
 }
 
 /** sRGB bytes to linear floats: the renderer encodes back to sRGB, so the screen shows the bytes. */

@@ -3,7 +3,7 @@
 // the tools' worker modules (worker/segment.js, worker/spray.js, …).
 //
 // Protocol (app/engine.js is the other side; ids tie replies to requests):
-//   page → worker  { id, op, ...payload }        op = 'open' or '<tool>.<name>', e.g. 'spray.plan'
+//   page → worker  { id, op, ...payload }        op = 'open', 'pick', 'display' or '<tool>.<name>'
 //   worker → page  { type: 'ready' } | { type: 'fatal', message }     once, after wasm init
 //                  { id, type: 'progress', stage, fraction }           any number, then
 //                  { id, type: 'done', result }                        either this
@@ -25,6 +25,7 @@ import * as segmentTool from './segment.js';
 import * as sprayTool from './spray.js';
 import * as drillTool from './drill.js';
 import * as pathsTool from './paths.js';
+import { patchColorBytes } from '../viewer/palette.js';
 
 const TOOLS = { segment: segmentTool, spray: sprayTool, drill: drillTool, paths: pathsTool };
 
@@ -71,10 +72,17 @@ const ctx = {
   },
   memoryBytes: () => wasmMemoryBytes(),
   /**
-   * Draw buffers for the current mesh, triangles grouped by patch so that each patch is one
-   * contiguous range: positions (9 floats per triangle, expanded through the indices) and
-   * ranges [start0, count0, start1, count1, …] in triangles, one pair per patch id and a
-   * last pair for the dropped triangles. Without a segmentation everything is "dropped".
+   * Draw buffers for the current mesh, all made here so that the page only hands them to
+   * WebGL: triangles grouped by patch so that each patch is one contiguous range.
+   *   positions  Float32Array, 9 per triangle (expanded through the indices)
+   *   colors     Uint8Array, 9 per triangle: the patch colour at each corner (palette.js)
+   *   ranges     Uint32Array [start0, count0, start1, count1, …] in triangles, one pair per
+   *              patch id and a last pair for the dropped triangles
+   *   boxes      Float32Array [minX, minY, minZ, maxX, maxY, maxZ] per range (empty: +∞, −∞)
+   *   sphere     [cx, cy, cz, radius]: centre of the bounding box and the largest distance
+   *              of a vertex from it (as three.js's computeBoundingSphere finds it)
+   *   borders, borderPatches   patch borders as segments and the patches beside each
+   * Without a segmentation everything is "dropped". Every array is transferred.
    */
   display(progress) {
     const seg = this.segmentation;
@@ -96,25 +104,81 @@ const ctx = {
       start += ranges[2 * b + 1];
     }
     const out = new Float32Array(triangleCount * 9);
+    const boxes = new Float32Array(6 * (patchCount + 1));
+    for (let b = 0; b <= patchCount; b++) boxes.set([Infinity, Infinity, Infinity, -Infinity, -Infinity, -Infinity], 6 * b);
     const step = Math.max(1, Math.floor(triangleCount / 50));
     for (let t = 0; t < triangleCount; t++) {
-      let o = 9 * cursor[bucketOf(t)]++;
+      const b = bucketOf(t);
+      let o = 9 * cursor[b]++;
+      const box = 6 * b;
       for (let k = 0; k < 3; k++) {
         const v = 3 * indices[3 * t + k];
-        out[o++] = positions[v];
-        out[o++] = positions[v + 1];
-        out[o++] = positions[v + 2];
+        for (let i = 0; i < 3; i++) {
+          const x = positions[v + i];
+          out[o++] = x;
+          if (x < boxes[box + i]) boxes[box + i] = x;
+          if (x > boxes[box + 3 + i]) boxes[box + 3 + i] = x;
+        }
       }
       if (t % step === 0) progress('Preparing the display', t / triangleCount);
     }
     progress('Preparing the display', 1);
+    const colors = new Uint8Array(triangleCount * 9);
+    for (let b = 0; b <= patchCount; b++) {
+      const start = 9 * ranges[2 * b];
+      const end = start + 9 * ranges[2 * b + 1];
+      if (end === start) continue;
+      // One corner's colour, then doubling copies: memcpy speed on millions of corners.
+      colors.set(patchColorBytes(b === patchCount ? -1 : b), start);
+      for (let filled = 3; start + filled < end; filled *= 2) {
+        colors.copyWithin(start + filled, start, Math.min(start + filled, end - filled));
+      }
+    }
+    const sphere = boundingSphere(positions);
     const borders = seg ? seg.borderSegments() : new Float32Array(0);
     // The two patch ids beside each border segment, so borders of hidden patches hide too.
     const borderPatches = seg ? seg.borderPatches() : new Int32Array(0);
-    const display = { positions: out, ranges, borders, borderPatches };
-    return [display, [out.buffer, ranges.buffer, borders.buffer, borderPatches.buffer]];
+    const display = { positions: out, colors, ranges, boxes, sphere, borders, borderPatches };
+    return [display, [out.buffer, colors.buffer, ranges.buffer, boxes.buffer, borders.buffer, borderPatches.buffer]];
   },
 };
+
+/** [cx, cy, cz, r]: the bounding box's centre and the largest distance of a vertex from it. */
+function boundingSphere(positions) {
+  const min = [Infinity, Infinity, Infinity];
+  const max = [-Infinity, -Infinity, -Infinity];
+  for (let v = 0; v < positions.length; v += 3) {
+    for (let i = 0; i < 3; i++) {
+      const x = positions[v + i];
+      if (x < min[i]) min[i] = x;
+      if (x > max[i]) max[i] = x;
+    }
+  }
+  if (positions.length === 0) return [0, 0, 0, 0];
+  const c = [0, 1, 2].map((i) => (min[i] + max[i]) / 2);
+  let r2 = 0;
+  for (let v = 0; v < positions.length; v += 3) {
+    const dx = positions[v] - c[0];
+    const dy = positions[v + 1] - c[1];
+    const dz = positions[v + 2] - c[2];
+    r2 = Math.max(r2, dx * dx + dy * dy + dz * dz);
+  }
+  return [...c, Math.sqrt(r2)];
+}
+
+/**
+ * Picking: the first triangle along the ray (model coordinates) on a patch not in `hidden`
+ * (-1 = the dropped triangles): { patchId, face, point: [x, y, z], distance } or null.
+ * The core builds its ray-cast index on the first pick and keeps it with the mesh.
+ */
+function pick({ origin, direction, hidden = [] }) {
+  const seg = ctx.segmentation;
+  let hit;
+  if (seg) hit = seg.raycast(origin, direction, hidden);
+  else hit = hidden.includes(-1) ? null : ctx.mesh.raycast(origin, direction);
+  const result = hit && { patchId: seg ? hit.patch : -1, face: hit.face, point: hit.point, distance: hit.distance };
+  return [result, []];
+}
 
 /** Parses an STL, then lets each tool that sent params work on it (segment: segmenting). */
 function open({ id, buffer, tools = {} }) {
@@ -147,6 +211,18 @@ function open({ id, buffer, tools = {} }) {
 
 function handlerOf(op) {
   if (op === 'open') return (msg) => open(msg);
+  if (op === 'display') {
+    return (msg) => {
+      if (!ctx.mesh) throw new Error('No model is loaded.');
+      return ctx.display(progressFor(msg.id));
+    };
+  }
+  if (op === 'pick') {
+    return (msg) => {
+      if (!ctx.mesh) throw new Error('No model is loaded.');
+      return pick(msg);
+    };
+  }
   const [tool, name] = op.split('.');
   const handler = TOOLS[tool]?.ops?.[name];
   if (!handler) return null;
@@ -156,7 +232,7 @@ function handlerOf(op) {
   };
 }
 
-const DOING = { open: 'reading the file' };
+const DOING = { open: 'reading the file', pick: 'picking', display: 'preparing the display' };
 
 try {
   await init();

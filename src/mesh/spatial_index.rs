@@ -8,22 +8,27 @@
 //!         normals (Thürmer & Wüthrich 1998) interpolated barycentrically.
 //! Input:  a [`TriMesh`] (consistently wound, as `mesh::import_stl` makes it, for the
 //!         smooth normals to be meaningful).
-//! Output: [`MeshIndex`] answering [`MeshIndex::cast_ray`] (first hit, both faces count) and
-//!         [`MeshIndex::closest_point`] (point, face, distance, normals).
-//! Cost:   build O(n log n) (linear-time median selection per level, depth ≤ log₂(n/4) + 1);
-//!         queries visit O(log n) nodes on well-spread meshes (worst case O(n)).
+//! Output: [`MeshIndex`] answering [`MeshIndex::cast_ray`] (first hit, both faces count),
+//!         [`MeshIndex::cast_ray_where`] (first hit on the faces a filter accepts: picking
+//!         skips hidden patches) and [`MeshIndex::closest_point`] (point, face, distance,
+//!         normals).
+//! Cost:   build O(n log n) (linear-time median selection per level, depth ≤ log₂(n/4) + 1;
+//!         boxes are merged bottom-up); queries visit O(log n) nodes on well-spread meshes
+//!         (worst case O(n)). Memory: the vertices (24 B each), 16 B per triangle (corner ids
+//!         and face id in hierarchy order) and about 28 B per triangle of nodes, so roughly
+//!         60 B per triangle on a closed mesh; the vertex normals (24 B per vertex) are
+//!         computed by the first closest-point query only, as ray casts never need them.
 //! Deviations: none in the methods. Why not `parry3d`: its versions on nalgebra (≤ 0.25) use
 //!         nalgebra 0.34 while this crate uses 0.35 (a second copy in the WebAssembly binary),
 //!         and later versions moved to glam, a third vector library. Measured on a wasm32
 //!         release cdylib doing one ray cast and one projection: 59.7 KB with parry3d-f64 0.25
 //!         against 10.9 KB for nalgebra alone, and 71 crates in the lock file instead of 20.
-//!         A 300-line BVH answers the two queries needed here, is checked against brute force
+//!         A 300-line BVH answers the queries needed here, is checked against brute force
 //!         in the tests and keeps results bit-identical natively and in WebAssembly.
-//!
-//! This index lives in `drill/` for now; it moves to `mesh/` when the page's picking uses it.
 
+use super::TriMesh;
 use crate::math::{Point3, Real, Vector3};
-use crate::mesh::TriMesh;
+use std::cell::OnceCell;
 
 /// Most triangles in a leaf of the hierarchy.
 const LEAF_SIZE: usize = 4;
@@ -75,18 +80,19 @@ pub struct ClosestPoint {
 #[derive(Clone, Debug)]
 pub struct MeshIndex {
     nodes: Vec<Node>,
-    /// Triangle corners in hierarchy order.
-    corners: Vec<[Point3; 3]>,
-    /// Vertex normals at each triangle's corners, in hierarchy order.
-    corner_normals: Vec<[Vector3; 3]>,
+    /// The mesh's vertex positions.
+    positions: Vec<Point3>,
+    /// Corner vertex ids of each triangle, in hierarchy order.
+    triangles: Vec<[u32; 3]>,
     /// Original face id of each triangle in hierarchy order.
     face_ids: Vec<u32>,
+    /// Angle-weighted unit vertex normals, computed by the first closest-point query.
+    vertex_normals: OnceCell<Vec<Vector3>>,
 }
 
 impl MeshIndex {
     /// Builds the hierarchy over every triangle of `mesh`.
     pub fn new(mesh: &TriMesh) -> Self {
-        let vertex_normals = angle_weighted_vertex_normals(mesh);
         let n = mesh.triangle_count();
         let mut order: Vec<u32> = (0..n as u32).collect();
         let centroids: Vec<Point3> = (0..n)
@@ -99,22 +105,28 @@ impl MeshIndex {
         if n > 0 {
             build(mesh, &centroids, &mut order, 0, &mut nodes);
         }
-        let corners = order.iter().map(|&f| mesh.corners(f as usize)).collect();
-        let corner_normals = order
+        let triangles = order
             .iter()
-            .map(|&f| mesh.triangles()[f as usize].map(|v| vertex_normals[v as usize]))
+            .map(|&f| mesh.triangles()[f as usize])
             .collect();
         MeshIndex {
             nodes,
-            corners,
-            corner_normals,
+            positions: mesh.positions().to_vec(),
+            triangles,
             face_ids: order,
+            vertex_normals: OnceCell::new(),
         }
     }
 
     /// Number of triangles indexed.
     pub fn triangle_count(&self) -> usize {
-        self.corners.len()
+        self.triangles.len()
+    }
+
+    /// Corner positions of the `k`-th triangle in hierarchy order.
+    #[inline]
+    fn corners(&self, k: usize) -> [Point3; 3] {
+        self.triangles[k].map(|v| self.positions[v as usize])
     }
 
     /// The first triangle hit by the ray `origin + t·direction/|direction|`, `0 ≤ t ≤
@@ -124,6 +136,19 @@ impl MeshIndex {
         origin: &Point3,
         direction: &Vector3,
         max_distance: Real,
+    ) -> Option<RayHit> {
+        self.cast_ray_where(origin, direction, max_distance, |_| true)
+    }
+
+    /// Like [`MeshIndex::cast_ray`], counting only the faces for which `accept(face id)` is
+    /// true (faces it refuses let the ray through). Among hits at the same distance the
+    /// triangle earlier in the hierarchy wins, so the answer is deterministic.
+    pub fn cast_ray_where(
+        &self,
+        origin: &Point3,
+        direction: &Vector3,
+        max_distance: Real,
+        mut accept: impl FnMut(usize) -> bool,
     ) -> Option<RayHit> {
         let length = direction.norm();
         if !(length > 0.0 && length.is_finite()) || self.nodes.is_empty() {
@@ -144,8 +169,11 @@ impl MeshIndex {
             if node.count > 0 {
                 let start = node.start_or_right as usize;
                 for k in start..start + node.count as usize {
-                    if let Some(t) = ray_triangle(origin, &dir, &self.corners[k]) {
-                        if t <= limit && best.is_none_or(|(bt, bk)| (t, k) < (bt, bk)) {
+                    if let Some(t) = ray_triangle(origin, &dir, &self.corners(k)) {
+                        if t <= limit
+                            && best.is_none_or(|(bt, bk)| (t, k) < (bt, bk))
+                            && accept(self.face_ids[k] as usize)
+                        {
                             best = Some((t, k));
                             limit = t;
                         }
@@ -187,7 +215,7 @@ impl MeshIndex {
             if node.count > 0 {
                 let start = node.start_or_right as usize;
                 for k in start..start + node.count as usize {
-                    let (p, bary) = closest_on_triangle(query, &self.corners[k]);
+                    let (p, bary) = closest_on_triangle(query, &self.corners(k));
                     let d = (p - query).norm_squared();
                     if d < best_sq {
                         best_sq = d;
@@ -206,10 +234,11 @@ impl MeshIndex {
             }
         }
         let (k, point, bary) = best?;
-        let [a, b, c] = self.corners[k];
+        let [a, b, c] = self.corners(k);
         let scaled = (b - a).cross(&(c - a));
         let face_normal = scaled.try_normalize(0.0).unwrap_or_else(Vector3::zeros);
-        let [na, nb, nc] = self.corner_normals[k];
+        let normals = self.vertex_normals.get_or_init(|| self.vertex_normals());
+        let [na, nb, nc] = self.triangles[k].map(|v| normals[v as usize]);
         let smooth = na * bary[0] + nb * bary[1] + nc * bary[2];
         let normal = smooth.try_normalize(0.0).unwrap_or(face_normal);
         Some(ClosestPoint {
@@ -220,11 +249,39 @@ impl MeshIndex {
             normal,
         })
     }
+
+    /// Unit vertex normals weighted by the corner angle of each incident face (zero for a
+    /// vertex of degenerate faces only). Faces are summed in the mesh's own order, so the
+    /// normals do not depend on the hierarchy.
+    fn vertex_normals(&self) -> Vec<Vector3> {
+        let mut slot_of_face = vec![0u32; self.face_ids.len()];
+        for (k, &f) in self.face_ids.iter().enumerate() {
+            slot_of_face[f as usize] = k as u32;
+        }
+        let mut normals = vec![Vector3::zeros(); self.positions.len()];
+        for &k in &slot_of_face {
+            let tri = self.triangles[k as usize];
+            let p = self.corners(k as usize);
+            let Some(n) = (p[1] - p[0]).cross(&(p[2] - p[0])).try_normalize(0.0) else {
+                continue;
+            };
+            for i in 0..3 {
+                let angle =
+                    crate::math::angle_between(&(p[(i + 1) % 3] - p[i]), &(p[(i + 2) % 3] - p[i]));
+                normals[tri[i] as usize] += n * angle;
+            }
+        }
+        for n in &mut normals {
+            *n = n.try_normalize(0.0).unwrap_or_else(Vector3::zeros);
+        }
+        normals
+    }
 }
 
 /// Recursively builds the subtree over `order` (triangles `offset..offset + order.len()` in
 /// index order) and returns its node index. Depth is at most log₂(n / LEAF_SIZE) + 1 as every
-/// split halves the range.
+/// split halves the range. A leaf's box is taken from its corners, an inner node's is the
+/// union of its children's, so every corner is read once.
 fn build(
     mesh: &TriMesh,
     centroids: &[Point3],
@@ -232,27 +289,28 @@ fn build(
     offset: usize,
     nodes: &mut Vec<Node>,
 ) -> usize {
-    let mut min = Point3::from(Vector3::repeat(Real::INFINITY));
-    let mut max = Point3::from(Vector3::repeat(Real::NEG_INFINITY));
-    let mut cmin = min;
-    let mut cmax = max;
-    for &f in order.iter() {
-        for p in mesh.corners(f as usize) {
-            min = min.inf(&p);
-            max = max.sup(&p);
-        }
-        cmin = cmin.inf(&centroids[f as usize]);
-        cmax = cmax.sup(&centroids[f as usize]);
-    }
     let index = nodes.len();
     nodes.push(Node {
-        min,
-        max,
+        min: Point3::from(Vector3::repeat(Real::INFINITY)),
+        max: Point3::from(Vector3::repeat(Real::NEG_INFINITY)),
         start_or_right: offset as u32,
         count: order.len() as u32,
     });
     if order.len() <= LEAF_SIZE {
+        let node = &mut nodes[index];
+        for &f in order.iter() {
+            for p in mesh.corners(f as usize) {
+                node.min = node.min.inf(&p);
+                node.max = node.max.sup(&p);
+            }
+        }
         return index;
+    }
+    let mut cmin = Point3::from(Vector3::repeat(Real::INFINITY));
+    let mut cmax = Point3::from(Vector3::repeat(Real::NEG_INFINITY));
+    for &f in order.iter() {
+        cmin = cmin.inf(&centroids[f as usize]);
+        cmax = cmax.sup(&centroids[f as usize]);
     }
     let extent = cmax - cmin;
     let axis = if extent.x >= extent.y && extent.x >= extent.z {
@@ -270,10 +328,14 @@ fn build(
             .then(a.cmp(&b))
     });
     let (left, right) = order.split_at_mut(mid);
-    build(mesh, centroids, left, offset, nodes);
+    let left_index = build(mesh, centroids, left, offset, nodes);
     let right_index = build(mesh, centroids, right, offset + mid, nodes);
-    nodes[index].start_or_right = right_index as u32;
-    nodes[index].count = 0;
+    let (l, r) = (nodes[left_index], nodes[right_index]);
+    let node = &mut nodes[index];
+    node.min = l.min.inf(&r.min);
+    node.max = l.max.sup(&r.max);
+    node.start_or_right = right_index as u32;
+    node.count = 0;
     index
 }
 
@@ -377,27 +439,6 @@ fn closest_on_triangle(p: &Point3, [a, b, c]: &[Point3; 3]) -> (Point3, [Real; 3
     let v = vb / sum;
     let w = vc / sum;
     (a + ab * v + ac * w, [1.0 - v - w, v, w])
-}
-
-/// Unit vertex normals weighted by the corner angle of each incident face (zero for a vertex
-/// of degenerate faces only).
-fn angle_weighted_vertex_normals(mesh: &TriMesh) -> Vec<Vector3> {
-    let mut normals = vec![Vector3::zeros(); mesh.vertex_count()];
-    for (f, tri) in mesh.triangles().iter().enumerate() {
-        let Some(n) = mesh.scaled_normal(f).try_normalize(0.0) else {
-            continue;
-        };
-        let p = mesh.corners(f);
-        for i in 0..3 {
-            let angle =
-                crate::math::angle_between(&(p[(i + 1) % 3] - p[i]), &(p[(i + 2) % 3] - p[i]));
-            normals[tri[i] as usize] += n * angle;
-        }
-    }
-    for n in &mut normals {
-        *n = n.try_normalize(0.0).unwrap_or_else(Vector3::zeros);
-    }
-    normals
 }
 
 #[cfg(test)]
