@@ -92,6 +92,25 @@ fn cylinder_ring_source_gives_circles_at_z_10k() {
 }
 
 #[test]
+fn a_level_on_the_rim_gives_one_ring_for_every_method() {
+    // Level 12 (z = 120) runs along the far rim, where the exact method's distances equal the
+    // level only up to rounding: still one closed ring there, not fragments.
+    let s = cylinder(96, 24);
+    for method in [Method::Mesh, Method::Exact] {
+        let params = DistanceParams {
+            method,
+            ..DistanceParams::default()
+        };
+        let f = distance(&s, &polyline(ring(0.0, 96, 0.0), true), &params);
+        let ls = lines(&s, &f, 10.0, None);
+        let levels: Vec<u32> = ls.iter().map(|l| l.level).collect();
+        assert_eq!(levels, (1..=12).collect::<Vec<_>>(), "{method:?}");
+        assert!(ls.iter().all(|l| l.closed), "{method:?}");
+        assert!((ls[11].length() - 2.0 * PI * R).abs() < 0.5, "{method:?}");
+    }
+}
+
+#[test]
 fn cylinder_generator_source_gives_lines_on_both_sides() {
     let s = cylinder(160, 60);
     // Between two vertex columns, so the source crosses faces.

@@ -6,12 +6,17 @@
 //! Output: open and closed polylines with the unit surface normal (vertex normals
 //!         interpolated along the edge) at each point.
 //! Cost:   O(F) per level.
-//! Deviations: none. A vertex exactly at the level counts as above it, so every edge is cut
-//!         at most once and both faces of an edge agree; segments are chained through the face
+//! Deviations: none. A vertex at the level counts as above it, so every edge is cut at most
+//!         once and both faces of an edge agree; "at" allows a relative `LEVEL_TOLERANCE`, so
+//!         a row of vertices lying on the level up to rounding (a rim at a multiple of the
+//!         spacing) gives one line through them, not fragments weaving across it; segments are chained through the face
 //!         adjacency, so a polyline is closed exactly when it comes back to its first face.
 
 use super::surface::Surface;
 use crate::math::{any_perpendicular, Point3, Real, Vector3};
+
+/// Relative distance from the level (of `max(|level|, 1)`) within which a vertex is on it.
+const LEVEL_TOLERANCE: Real = 1e-9;
 
 /// One polyline of a level set (or a pass of the voxel method), with a normal per point.
 #[derive(Clone, Debug, PartialEq)]
@@ -114,7 +119,8 @@ impl IsoLine {
 /// The level set `values = level` on the active faces as polylines (level index 0).
 pub(crate) fn contour(surface: &Surface, values: &[Real], level: Real) -> Vec<IsoLine> {
     let mesh = surface.mesh;
-    let above = |v: u32| values[v as usize] >= level;
+    let on = level - LEVEL_TOLERANCE * level.abs().max(1.0);
+    let above = |v: u32| values[v as usize] >= on;
     // Crossing slots of each face: slot k is edge corner k → corner k+1.
     let crossing = |f: usize| -> Option<[usize; 2]> {
         let t = mesh.triangles()[f];
