@@ -319,7 +319,7 @@ fn bad_input_is_refused_with_a_named_error() {
         "{e}"
     );
     let e = run(&src, &voxel_params(Real::NAN));
-    assert!(e.to_string().contains("voxel_size"), "{e}");
+    assert!(e.to_string().contains("voxelSize"), "{e}");
     let e = run(
         &src,
         &DistanceParams {

@@ -61,14 +61,14 @@ pub fn geodesic_distance(
     let grid = FaceGrid::new(&surface);
     let max_snap = match params.max_snap_distance {
         Some(m) => {
-            super::params::positive("max_snap_distance", m)?;
+            super::params::positive("maxSnapDistance", m)?;
             m
         }
         None => DEFAULT_SNAP_EDGES * surface.mean_edge,
     };
     let voxel_size = match params.voxel_size {
         Some(l) => {
-            super::params::positive("voxel_size", l)?;
+            super::params::positive("voxelSize", l)?;
             l
         }
         None => DEFAULT_VOXEL_PER_EDGE * surface.mean_edge,

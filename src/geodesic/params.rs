@@ -143,10 +143,10 @@ impl Default for PathParams {
 impl PathParams {
     /// Spacing from a bead width and an overlap factor (the paper: 6.4 mm × 0.738 ≈ 4.7 mm).
     pub fn from_bead(bead_width: Real, overlap_factor: Real) -> Result<Self, GeodesicError> {
-        positive("bead_width", bead_width)?;
+        positive("beadWidth", bead_width)?;
         if !(overlap_factor.is_finite() && overlap_factor > 0.0 && overlap_factor <= 1.0) {
             return Err(GeodesicError::BadParam {
-                name: "overlap_factor",
+                name: "overlapFactor",
                 value: overlap_factor,
                 why: "must be in (0, 1]",
             });
@@ -161,10 +161,10 @@ impl PathParams {
     pub fn validate(&self) -> Result<(), GeodesicError> {
         positive("spacing", self.spacing)?;
         if let Some(p) = self.point_spacing {
-            positive("point_spacing", p)?;
+            positive("pointSpacing", p)?;
         }
         positive("speed", self.speed)?;
-        positive("link_speed", self.link_speed)?;
+        positive("linkSpeed", self.link_speed)?;
         Ok(())
     }
 }

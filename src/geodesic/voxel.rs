@@ -220,7 +220,7 @@ pub(crate) fn voxelise(
     max_bytes: u64,
     progress: Progress,
 ) -> Result<VoxelField, GeodesicError> {
-    super::params::positive("voxel_size", l)?;
+    super::params::positive("voxelSize", l)?;
     let mesh = surface.mesh;
     let (est_voxels, est_bytes) = estimate(surface, l);
     let (mut lo, mut hi) = (Point3::from([Real::MAX; 3]), Point3::from([Real::MIN; 3]));

@@ -254,7 +254,7 @@ test('bad input throws an Error naming it and the mesh keeps working', () => {
   refuses(() => mesh.geodesicDistance(ringSource, { methd: 'mesh' }), /^unknown geodesic parameter 'methd'$/);
   refuses(() => mesh.geodesicDistance(ringSource, { voxelSize: 1 }), /'voxelSize' needs method "voxel"/);
   refuses(() => mesh.geodesicDistance(ringSource, { method: 'voxel', voxelSize: 0.001 }), /voxel size 0\.001 is too small: .*use a voxel size of at least/);
-  refuses(() => mesh.geodesicDistance(ringSource, { method: 'voxel', voxelSize: -1 }), /voxel_size = -1/);
+  refuses(() => mesh.geodesicDistance(ringSource, { method: 'voxel', voxelSize: -1 }), /voxelSize = -1/);
   refuses(() => mesh.geodesicDistance(ringSource, { faces: new Uint32Array(0) }), /^faces is empty/);
   refuses(() => mesh.geodesicDistance(ringSource, { faces: [1e7] }), /face set is invalid/);
   refuses(() => mesh.geodesicDistance(ringSource, { faces: 'all' }), /^faces must be a Uint32Array/);
@@ -265,11 +265,11 @@ test('bad input throws an Error naming it and the mesh keeps working', () => {
   refuses(() => field.isoPaths('10'), /^spacing must be a number/);
   refuses(() => field.isoPaths(undefined), /^spacing is missing/);
   refuses(() => field.isoPaths(10, { beadWidth: 6.4, overlapFactor: 0.7 }), /either spacing or/);
-  refuses(() => field.isoPaths(null, { beadWidth: 6.4, overlapFactor: 1.5 }), /overlap_factor = 1\.5/);
+  refuses(() => field.isoPaths(null, { beadWidth: 6.4, overlapFactor: 1.5 }), /overlapFactor = 1\.5/);
   refuses(() => field.isoPaths(10, { order: 'spiral' }), /^order must be one of "zigzag", "oneWay"/);
   refuses(() => field.isoPaths(10, { levels: 3 }), /^unknown path option 'levels'$/);
   refuses(() => field.isoPaths(10, { maxLevel: 0.5 }), /^maxLevel must be a whole number/);
-  refuses(() => field.isoPaths(10, { pointSpacing: 0 }), /point_spacing = 0/);
+  refuses(() => field.isoPaths(10, { pointSpacing: 0 }), /pointSpacing = 0/);
   refuses(() => field.toolPath(1e-4), /more than 100000 levels/);
   refuses(() => field.toolPath(10, { speed: -1 }), /speed = -1/);
   const path = field.toolPath(10);
