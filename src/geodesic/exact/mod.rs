@@ -110,6 +110,8 @@ struct Solver<'a> {
     free: Vec<u32>,
     seq: u64,
     scale: Real,
+    /// Vertices with a finite distance (for progress).
+    reached: usize,
 }
 
 impl<'a> Solver<'a> {
@@ -157,6 +159,7 @@ impl<'a> Solver<'a> {
             free: Vec::new(),
             seq: 0,
             scale: surface.mean_edge.max(Real::MIN_POSITIVE),
+            reached: 0,
         }
     }
 
@@ -204,6 +207,9 @@ impl<'a> Solver<'a> {
         via: Option<(usize, Real)>,
     ) {
         if d < self.dist[v] {
+            if self.dist[v] == Real::INFINITY {
+                self.reached += 1;
+            }
             self.dist[v] = d;
             self.back[v] = back.map(|(f, dir)| (f as u32, dir));
             self.via[v] = via.map(|(f, x)| (f as u32, x));
@@ -505,8 +511,7 @@ pub(crate) fn propagate(
             )));
         }
         if popped % PROGRESS_EVERY as u64 == 0 {
-            let reached = s.dist.iter().filter(|d| d.is_finite()).count();
-            progress("distance", reached as f64 / active_vertices as f64);
+            progress("distance", s.reached as f64 / active_vertices as f64);
         }
         match event {
             Event::Vertex(v) => {
