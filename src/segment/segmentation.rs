@@ -79,6 +79,8 @@ pub fn segment_with_progress(
     let regions = grow_regions(adjacency, geometry, threshold);
     progress("planarise", 0.0);
     let order = seed_order(adjacency, geometry, params.seed_rule);
+    // Reported again so that the seed order's time can be told from the growing's.
+    progress("planarise", 0.0);
     let planar = planarise(
         adjacency,
         geometry,
