@@ -3,6 +3,26 @@
 use super::TriMesh;
 use crate::math::{Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
 
+/// Unit normal (zero when degenerate), area and centroid of the face with corners
+/// `[a, b, c]` in that winding.
+#[inline]
+fn measure([a, b, c]: [Point3; 3]) -> (Vector3, Real, Point3) {
+    let scaled = (b - a).cross(&(c - a));
+    let twice_area = scaled.norm();
+    let longest_sq = (b - a)
+        .norm_squared()
+        .max((c - b).norm_squared())
+        .max((a - c).norm_squared());
+    // height = 2·area / longest edge, so height < r·longest ⇔ 2·area < r·longest².
+    let normal = if twice_area > DEGENERATE_HEIGHT_RATIO * longest_sq {
+        scaled / twice_area
+    } else {
+        Vector3::zeros()
+    };
+    let centroid = Point3::from((a.coords + b.coords + c.coords) / 3.0);
+    (normal, 0.5 * twice_area, centroid)
+}
+
 /// Unit normal, area and centroid of every face, indexed by face id.
 ///
 /// A degenerate face (height below [`DEGENERATE_HEIGHT_RATIO`] of its longest edge, which
@@ -19,34 +39,44 @@ impl FaceGeometry {
     /// Computes the geometry of every face of `mesh`, in its current winding.
     pub fn new(mesh: &TriMesh) -> Self {
         let n = mesh.triangle_count();
-        let mut geometry = FaceGeometry {
+        let mut geometry = Self::with_capacity(n);
+        for f in 0..n {
+            geometry.push(mesh.corners(f));
+        }
+        geometry
+    }
+
+    /// Room for `n` faces, none computed yet.
+    pub(crate) fn with_capacity(n: usize) -> Self {
+        FaceGeometry {
             normals: Vec::with_capacity(n),
             areas: Vec::with_capacity(n),
             centroids: Vec::with_capacity(n),
             degenerate: 0,
-        };
-        for f in 0..n {
-            let [a, b, c] = mesh.corners(f);
-            let scaled = (b - a).cross(&(c - a));
-            let twice_area = scaled.norm();
-            let longest_sq = (b - a)
-                .norm_squared()
-                .max((c - b).norm_squared())
-                .max((a - c).norm_squared());
-            // height = 2·area / longest edge, so height < r·longest ⇔ 2·area < r·longest².
-            let normal = if twice_area > DEGENERATE_HEIGHT_RATIO * longest_sq {
-                scaled / twice_area
-            } else {
-                geometry.degenerate += 1;
-                Vector3::zeros()
-            };
-            geometry.normals.push(normal);
-            geometry.areas.push(0.5 * twice_area);
-            geometry
-                .centroids
-                .push(Point3::from((a.coords + b.coords + c.coords) / 3.0));
         }
-        geometry
+    }
+
+    /// Appends the face with corners `[a, b, c]` (in its winding).
+    #[inline]
+    pub(crate) fn push(&mut self, corners: [Point3; 3]) {
+        let (normal, area, centroid) = measure(corners);
+        self.degenerate += usize::from(normal == Vector3::zeros());
+        self.normals.push(normal);
+        self.areas.push(area);
+        self.centroids.push(centroid);
+    }
+
+    /// Recomputes face `f` from `corners`, its corners after its winding was reversed.
+    #[inline]
+    pub(crate) fn flip(&mut self, f: usize, corners: [Point3; 3]) {
+        let (normal, area, centroid) = measure(corners);
+        // The same set of edge lengths and an opposite cross product: whether the face is
+        // degenerate does not change, but the count is kept right regardless.
+        self.degenerate -= usize::from(self.normals[f] == Vector3::zeros());
+        self.degenerate += usize::from(normal == Vector3::zeros());
+        self.normals[f] = normal;
+        self.areas[f] = area;
+        self.centroids[f] = centroid;
     }
 
     /// Number of faces.

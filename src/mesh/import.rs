@@ -2,7 +2,8 @@
 //! per-face geometry and a report of what was found.
 
 use super::stl::read_stl_with_progress;
-use super::{orient_consistently, FaceAdjacency, FaceGeometry, StlError, StlFormat, TriMesh};
+use super::orientation::orient_and_measure;
+use super::{FaceAdjacency, FaceGeometry, StlError, StlFormat, TriMesh};
 use crate::math::Real;
 
 /// What a user should know about an imported mesh (serialised for JavaScript in camelCase).
@@ -63,9 +64,9 @@ pub fn import_stl(
     let mut mesh = import.mesh;
     let mut adjacency = FaceAdjacency::with_progress(&mesh, progress);
     progress("orient", 0.0);
-    let orientation = orient_consistently(&mut mesh, &mut adjacency);
+    // The geometry is computed with the winding (in the same pass where it can be).
+    let (orientation, geometry) = orient_and_measure(&mut mesh, &mut adjacency);
     progress("geometry", 0.0);
-    let geometry = FaceGeometry::new(&mesh);
     // Degenerate as the report counts it (FaceGeometry, DEGENERATE_HEIGHT_RATIO): with no
     // usable normal anywhere, every later stage would run on noise.
     if geometry.degenerate_count() == mesh.triangle_count() {

@@ -10,7 +10,8 @@
 //! are the components and only closed ones with negative volume are turned (one pass).
 //! Cost: linear in faces; 5 bytes a face of scratch.
 
-use super::{FaceAdjacency, TriMesh};
+use super::{FaceAdjacency, FaceGeometry, TriMesh};
+use crate::math::Point3;
 
 /// What [`orient_consistently`] changed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -34,8 +35,29 @@ fn uses_directed_edge(t: &[u32; 3], a: u32, b: u32) -> bool {
 /// traversed in opposite directions by its two faces, where the surface allows it.
 pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> OrientationReport {
     if adjacency.winding_conflicts() == 0 && adjacency.non_manifold_edges() == 0 {
-        return turn_closed_components_outwards(mesh, adjacency);
+        return turn_closed_components_outwards(mesh, adjacency, None);
     }
+    propagate_winding(mesh, adjacency)
+}
+
+/// [`orient_consistently`] followed by [`FaceGeometry::new`] in the new winding, with the
+/// same results; on the fast path the geometry is computed in the pass that sums the
+/// volumes (and patched for the faces turned), so the corners are read once.
+pub(crate) fn orient_and_measure(
+    mesh: &mut TriMesh,
+    adjacency: &mut FaceAdjacency,
+) -> (OrientationReport, FaceGeometry) {
+    if adjacency.winding_conflicts() == 0 && adjacency.non_manifold_edges() == 0 {
+        let mut geometry = FaceGeometry::with_capacity(mesh.triangle_count());
+        let report = turn_closed_components_outwards(mesh, adjacency, Some(&mut geometry));
+        return (report, geometry);
+    }
+    let report = propagate_winding(mesh, adjacency);
+    (report, FaceGeometry::new(mesh))
+}
+
+/// The general case: breadth-first propagation of the winding over manifold edges.
+fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> OrientationReport {
     const UNSET: u8 = 0;
     const KEEP: u8 = 1;
     const FLIP: u8 = 2;
@@ -127,14 +149,22 @@ pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) ->
 /// closed surface around `origin`), times 6.
 #[inline]
 fn signed_volume6(mesh: &TriMesh, f: usize, origin: &nalgebra::Vector3<f64>) -> f64 {
-    let [a, b, c] = mesh.corners(f).map(|p| p.coords - origin);
+    corner_volume6(mesh.corners(f), origin)
+}
+
+/// [`signed_volume6`] of a face given by its corners.
+#[inline]
+fn corner_volume6(corners: [Point3; 3], origin: &nalgebra::Vector3<f64>) -> f64 {
+    let [a, b, c] = corners.map(|p| p.coords - origin);
     a.dot(&b.cross(&c))
 }
 
-/// The fast path: windings already agree, so each component is one orientable part.
+/// The fast path: windings already agree, so each component is one orientable part. With
+/// `geometry` (empty), also computes the face geometry in the final winding.
 fn turn_closed_components_outwards(
     mesh: &mut TriMesh,
     adjacency: &mut FaceAdjacency,
+    mut geometry: Option<&mut FaceGeometry>,
 ) -> OrientationReport {
     let count = adjacency.components();
     let mut volume = vec![0.0; count];
@@ -143,9 +173,13 @@ fn turn_closed_components_outwards(
     let mut origin = vec![None; count];
     for f in 0..mesh.triangle_count() {
         let c = adjacency.component_of()[f] as usize;
-        let o = *origin[c].get_or_insert(mesh.corners(f)[0].coords);
-        volume[c] += signed_volume6(mesh, f, &o);
+        let corners = mesh.corners(f);
+        let o = *origin[c].get_or_insert(corners[0].coords);
+        volume[c] += corner_volume6(corners, &o);
         closed[c] &= !adjacency.neighbours(f).contains(&super::NO_FACE);
+        if let Some(geometry) = geometry.as_deref_mut() {
+            geometry.push(corners);
+        }
     }
     let mut report = OrientationReport {
         orientable_parts: count,
@@ -156,6 +190,9 @@ fn turn_closed_components_outwards(
         if closed[c] && volume[c] < 0.0 {
             mesh.flip(f);
             adjacency.flip(f);
+            if let Some(geometry) = geometry.as_deref_mut() {
+                geometry.flip(f, mesh.corners(f));
+            }
             report.flipped_faces += 1;
         }
     }

@@ -260,7 +260,7 @@ fn finish(welder: Welder, info: StlInfo) -> Result<StlImport, StlError> {
     }
     let (positions, triangles) = welder.finish();
     Ok(StlImport {
-        mesh: TriMesh::new(positions, triangles)?,
+        mesh: TriMesh::from_welded(positions, triangles)?,
         info,
     })
 }
