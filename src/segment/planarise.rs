@@ -55,9 +55,9 @@ pub fn seed_order(adjacency: &FaceAdjacency, geometry: &FaceGeometry, rule: Seed
     let n = geometry.face_count();
     let normals = geometry.normals();
     // Key in [0, 1]: 0 is tried first.
-    let key: Box<dyn Fn(usize) -> Real> = match rule {
-        SeedRule::LowestIndex => return (0..n as u32).collect(),
-        SeedRule::Flattest => Box::new(move |f| {
+    match rule {
+        SeedRule::LowestIndex => (0..n as u32).collect(),
+        SeedRule::Flattest => order_by_key(geometry, |f| {
             // (1 − cos) of the sharpest bend to a neighbour, halved into [0, 1].
             adjacency
                 .neighbours_of(f)
@@ -66,9 +66,9 @@ pub fn seed_order(adjacency: &FaceAdjacency, geometry: &FaceGeometry, rule: Seed
                 .fold(0.0, Real::max)
         }),
         SeedRule::LargestArea => {
-            let largest = geometry.areas().iter().copied().fold(0.0, Real::max);
             let areas = geometry.areas();
-            Box::new(move |f| {
+            let largest = areas.iter().copied().fold(0.0, Real::max);
+            order_by_key(geometry, |f| {
                 if largest > 0.0 {
                     1.0 - areas[f] / largest
                 } else {
@@ -76,19 +76,25 @@ pub fn seed_order(adjacency: &FaceAdjacency, geometry: &FaceGeometry, rule: Seed
                 }
             })
         }
-    };
-    let bin = |f: usize| -> usize {
-        if geometry.is_degenerate(f) {
-            SEED_BINS - 1
-        } else {
-            ((key(f).clamp(0.0, 1.0) * (SEED_BINS - 2) as Real) as usize).min(SEED_BINS - 2)
-        }
-    };
-    let bins: Vec<u16> = (0..n).map(|f| bin(f) as u16).collect();
-    let mut start = vec![0u32; SEED_BINS + 1];
-    for &b in &bins {
-        start[b as usize + 1] += 1;
     }
+}
+
+/// Faces in increasing order of `key` binned into [`SEED_BINS`] − 1 bins, degenerate faces
+/// last, ties by face index (a counting sort).
+fn order_by_key(geometry: &FaceGeometry, key: impl Fn(usize) -> Real) -> Vec<u32> {
+    let n = geometry.face_count();
+    let mut start = vec![0u32; SEED_BINS + 1];
+    let bins: Vec<u16> = (0..n)
+        .map(|f| {
+            let b = if geometry.is_degenerate(f) {
+                SEED_BINS - 1
+            } else {
+                ((key(f).clamp(0.0, 1.0) * (SEED_BINS - 2) as Real) as usize).min(SEED_BINS - 2)
+            };
+            start[b + 1] += 1;
+            b as u16
+        })
+        .collect();
     for b in 0..SEED_BINS {
         start[b + 1] += start[b];
     }
