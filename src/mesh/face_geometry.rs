@@ -1,7 +1,7 @@
 //! Per-face unit normals, areas and centroids, computed once from a [`TriMesh`].
 
 use super::TriMesh;
-use crate::math::{Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
+use crate::math::{larger, Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
 
 /// Unit normal (zero when degenerate), area and centroid of the face with corners
 /// `[a, b, c]` in that winding.
@@ -9,10 +9,11 @@ use crate::math::{Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
 fn measure([a, b, c]: [Point3; 3]) -> (Vector3, Real, Point3) {
     let scaled = (b - a).cross(&(c - a));
     let twice_area = scaled.norm();
-    let longest_sq = (b - a)
-        .norm_squared()
-        .max((c - b).norm_squared())
-        .max((a - c).norm_squared());
+    // Squared lengths are never NaN or −0, so `larger` gives exactly `f64::max`.
+    let longest_sq = larger(
+        larger((b - a).norm_squared(), (c - b).norm_squared()),
+        (a - c).norm_squared(),
+    );
     // height = 2·area / longest edge, so height < r·longest ⇔ 2·area < r·longest².
     let normal = if twice_area > DEGENERATE_HEIGHT_RATIO * longest_sq {
         scaled / twice_area

@@ -15,7 +15,7 @@
 //! This replaces one random access into a table of 32 bytes a vertex per new vertex (the
 //! cost of welding large files) with sequential passes.
 //! `-0.0` and `+0.0` count as the same coordinate.
-//! Cost: expected O(1) per corner; scratch of 12 bytes a provisional vertex, 16 more during
+//! Cost: expected O(1) per corner; scratch of 12 bytes a provisional vertex, 20 more during
 //! `finish`, dropped by it.
 
 use crate::math::Point3;
@@ -112,12 +112,7 @@ impl Welder {
             recent,
         } = self;
         drop(recent);
-        let canonical = earliest_copies(&bits);
-        let duplicates = canonical
-            .iter()
-            .enumerate()
-            .filter(|&(v, &c)| c as usize != v)
-            .count();
+        let (canonical, duplicates) = earliest_copies(&bits);
         let to_point = |b: &[u32; 3]| {
             let [x, y, z] = b.map(|b| f32::from_bits(b) as f64);
             Point3::new(x, y, z)
@@ -147,8 +142,9 @@ impl Welder {
 }
 
 /// For every entry of `bits`, the index of its first equal entry (itself if it is the
-/// first), found bucket by bucket after partitioning by hash.
-fn earliest_copies(bits: &[[u32; 3]]) -> Vec<u32> {
+/// first), and how many entries are not first; found bucket by bucket after partitioning
+/// by hash, so every pass but the rare duplicate's write is sequential.
+fn earliest_copies(bits: &[[u32; 3]]) -> (Vec<u32>, usize) {
     let n = bits.len();
     let buckets = (n / BUCKET_TARGET).next_power_of_two().max(1);
     let shift = 64 - buckets.trailing_zeros();
@@ -167,41 +163,49 @@ fn earliest_copies(bits: &[[u32; 3]]) -> Vec<u32> {
     for i in 0..buckets {
         start[i + 1] += start[i];
     }
-    // Counting sort: each bucket lists its entries in increasing index order.
-    let mut order = vec![0u32; n];
+    // Counting sort: each bucket holds its entries (pattern and index) in index order.
+    let mut sorted = vec![EMPTY; n];
     let mut fill = start.clone();
     for (v, b) in bits.iter().enumerate() {
         let k = bucket_of(b);
-        order[fill[k] as usize] = v as u32;
+        sorted[fill[k] as usize] = Slot {
+            bits: *b,
+            id: v as u32,
+        };
         fill[k] += 1;
     }
     drop(fill);
-    let mut canonical = vec![0u32; n];
+    let mut canonical: Vec<u32> = (0..n as u32).collect();
+    let mut duplicates = 0;
+    // Slots of the bucket's entries (positions in `members`), EMPTY_ID when free.
     let mut table: Vec<u32> = Vec::new();
     for k in 0..buckets {
-        let members = &order[start[k] as usize..start[k + 1] as usize];
+        let members = &sorted[start[k] as usize..start[k + 1] as usize];
         // At most half full, so probing meets an empty slot.
         let size = (2 * members.len()).next_power_of_two().max(2);
         table.clear();
         table.resize(size, EMPTY_ID);
         let mask = size - 1;
-        for &v in members {
-            let b = &bits[v as usize];
-            let mut i = hash_bits(b) as usize & mask;
+        for (m, slot) in members.iter().enumerate() {
+            let mut i = hash_bits(&slot.bits) as usize & mask;
             // Ends: the table has more empty slots than members.
-            canonical[v as usize] = loop {
+            loop {
                 match table[i] {
                     EMPTY_ID => {
-                        table[i] = v;
-                        break v;
+                        table[i] = m as u32;
+                        break;
                     }
-                    w if bits[w as usize] == *b => break w,
+                    e if members[e as usize].bits == slot.bits => {
+                        canonical[slot.id as usize] = members[e as usize].id;
+                        duplicates += 1;
+                        break;
+                    }
                     _ => i = (i + 1) & mask,
                 }
-            };
+            }
         }
     }
-    canonical
+    (canonical, duplicates)
 }
 
 #[cfg(test)]

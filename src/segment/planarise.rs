@@ -27,7 +27,7 @@
 //!   counting sort over 4096 bins of the rule's key, ties by face index (linear, deterministic).
 
 use super::{Regions, SeedRule, MIN_ANGLE_RAD};
-use crate::math::{angle_between, cos, Real, Vector3};
+use crate::math::{angle_between, cos, larger, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry};
 use std::f64::consts::PI;
 
@@ -63,7 +63,8 @@ pub fn seed_order(adjacency: &FaceAdjacency, geometry: &FaceGeometry, rule: Seed
                 .neighbours_of(f)
                 .filter(|&g| !geometry.is_degenerate(g))
                 .map(|g| 0.5 * (1.0 - normals[f].dot(&normals[g])))
-                .fold(0.0, Real::max)
+                // Keys of unit normals are never NaN, and the only zero is 0.5 · (+0).
+                .fold(0.0, larger)
         }),
         SeedRule::LargestArea => {
             let areas = geometry.areas();
