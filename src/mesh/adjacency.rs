@@ -1,16 +1,17 @@
 //! Edge adjacency between faces, with boundary, non-manifold and wrongly wound edges counted.
 //!
-//! No paper: faces are grouped by vertex (a compressed vertex → outgoing-edge table holding
-//! `(face, corner, next vertex)`), and face edge `a → b` finds the faces with `b → a` among
-//! the edges leaving `b` (consistently wound neighbours) and those with `a → b` among the
-//! edges leaving `a` (neighbours wound the other way). An edge with one other face links the
+//! No paper: every face edge is filed under its smaller vertex `u`, in one of two runs by
+//! direction (`u → w` or `w → u`), with the other vertex `w` and its `(face, corner)`
+//! (a counting sort); face edge `a → b` finds in the runs of `min(a, b)` the faces with
+//! `b → a` (consistently wound neighbours) and those with `a → b` (neighbours wound the
+//! other way), both in one place in memory. An edge with one other face links the
 //! two; with none it is a boundary edge; with two or more it is non-manifold and links
 //! nobody, because a surface cannot be processed across such an edge as one sheet. Faces
 //! that repeat a vertex (collapsed to a line or point) link nobody.
-//! The edges leaving a vertex of high valence (more than [`SCAN_LIMIT`], as at the centre
-//! of a disc tessellated as a fan, or on an edge shared by thousands of faces) are sorted
-//! by target vertex and searched by bisection; shorter runs, almost all of them, are
-//! scanned. A non-manifold edge is resolved once, for all its faces.
+//! Runs longer than [`SCAN_LIMIT`] (a vertex of high valence, as at the centre of a disc
+//! tessellated as a fan, or an edge shared by thousands of faces) are sorted by other
+//! vertex and searched by bisection; shorter runs, almost all of them, are scanned. A
+//! non-manifold edge is resolved once, for all its faces.
 //! Cost: O(n log n) whatever the valence (O(n) at bounded valence); about 30 bytes a face
 //! of scratch, read in contiguous runs per vertex.
 
@@ -55,8 +56,8 @@ impl UnionFind {
     }
 }
 
-/// An edge leaving a vertex: the face and corner it starts at (packed as `face·4 + corner`)
-/// and the vertex it goes to.
+/// A face edge filed under its smaller vertex: the face and corner it starts at (packed as
+/// `face·4 + corner`) and its larger vertex.
 #[derive(Clone, Copy, Default)]
 struct OutEdge {
     face_corner: u32,
@@ -67,8 +68,8 @@ struct OutEdge {
 /// below it a scan of a cache line or two beats a search; typical valence is 6).
 const SCAN_LIMIT: usize = 16;
 
-/// The edges in `run` (edges leaving one vertex) that go to `to`: a scan of short runs, a
-/// bisection of long ones (sorted by target).
+/// The edges in `run` (edges of one vertex and direction) whose other vertex is `to`: a scan
+/// of short runs, a bisection of long ones (sorted by other vertex).
 #[inline]
 fn edges_to(run: &[OutEdge], to: u32) -> impl Iterator<Item = &OutEdge> {
     let run = if run.len() <= SCAN_LIMIT {
@@ -100,41 +101,51 @@ impl FaceAdjacency {
         );
         let collapsed = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
 
-        // Vertex → outgoing edges, as offsets into one array (counting sort by vertex).
+        // Each face edge is filed under its smaller vertex `u`, in run `2u` when it leaves
+        // `u` and `2u + 1` when it arrives there, with its other vertex (counting sort), so
+        // the faces on an edge are found in one place.
         let vertex_count = mesh.vertex_count();
-        let mut offsets = vec![0u32; vertex_count + 1];
+        let run_of = |a: u32, b: u32| -> usize {
+            if a < b {
+                2 * a as usize
+            } else {
+                2 * b as usize + 1
+            }
+        };
+        let mut offsets = vec![0u32; 2 * vertex_count + 1];
         for t in triangles.iter().filter(|t| !collapsed(t)) {
-            for &v in t {
-                offsets[v as usize + 1] += 1;
+            for k in 0..3 {
+                offsets[run_of(t[k], t[(k + 1) % 3]) + 1] += 1;
             }
         }
-        for v in 0..vertex_count {
-            offsets[v + 1] += offsets[v];
+        for r in 0..2 * vertex_count {
+            offsets[r + 1] += offsets[r];
         }
-        let mut out = vec![OutEdge::default(); offsets[vertex_count] as usize];
+        let mut out = vec![OutEdge::default(); offsets[2 * vertex_count] as usize];
         let mut fill = offsets.clone();
         for (f, t) in triangles.iter().enumerate() {
             if collapsed(t) {
                 continue;
             }
             for k in 0..3 {
-                let v = t[k] as usize;
-                out[fill[v] as usize] = OutEdge {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let r = run_of(a, b);
+                out[fill[r] as usize] = OutEdge {
                     face_corner: (f as u32) << 2 | k as u32,
-                    to: t[(k + 1) % 3],
+                    to: a.max(b),
                 };
-                fill[v] += 1;
+                fill[r] += 1;
             }
         }
         drop(fill);
-        for v in 0..vertex_count {
-            let run = &mut out[offsets[v] as usize..offsets[v + 1] as usize];
+        for r in 0..2 * vertex_count {
+            let run = &mut out[offsets[r] as usize..offsets[r + 1] as usize];
             if run.len() > SCAN_LIMIT {
-                // (target, face·4 + corner) is unique: the order is deterministic.
+                // (other vertex, face·4 + corner) is unique: the order is deterministic.
                 run.sort_unstable_by_key(|e| (e.to, e.face_corner));
             }
         }
-        let leaving = |v: u32| &out[offsets[v as usize] as usize..offsets[v as usize + 1] as usize];
+        let run = |r: usize| &out[offsets[r] as usize..offsets[r + 1] as usize];
 
         const UNSEEN: u32 = u32::MAX - 1;
         let mut neighbours = vec![[UNSEEN; 3]; n];
@@ -156,10 +167,18 @@ impl FaceAdjacency {
                     continue;
                 }
                 let (a, b) = (t[k], t[(k + 1) % 3]);
+                let (u, w) = (a.min(b), a.max(b));
+                // The edges u → w and w → u; this face's own edge is among those of its
+                // direction.
+                let (same, opposite) = if a < b {
+                    (2 * u as usize, 2 * u as usize + 1)
+                } else {
+                    (2 * u as usize + 1, 2 * u as usize)
+                };
                 sharers.clear();
-                sharers.extend(edges_to(leaving(b), a).map(|e| (e.face_corner, false)));
+                sharers.extend(edges_to(run(opposite), w).map(|e| (e.face_corner, false)));
                 sharers.extend(
-                    edges_to(leaving(a), b)
+                    edges_to(run(same), w)
                         .filter(|e| (e.face_corner >> 2) as usize != f)
                         .map(|e| (e.face_corner, true)),
                 );
