@@ -175,32 +175,44 @@ impl FaceAdjacency {
                 } else {
                     (2 * u as usize + 1, 2 * u as usize)
                 };
-                sharers.clear();
-                sharers.extend(edges_to(run(opposite), w).map(|e| (e.face_corner, false)));
-                sharers.extend(
-                    edges_to(run(same), w)
+                let others = || {
+                    let opposite = edges_to(run(opposite), w).map(|e| (e.face_corner, false));
+                    let same = edges_to(run(same), w)
                         .filter(|e| (e.face_corner >> 2) as usize != f)
-                        .map(|e| (e.face_corner, true)),
-                );
-                match sharers.as_slice() {
-                    [] => {
+                        .map(|e| (e.face_corner, true));
+                    opposite.chain(same)
+                };
+                // Almost every edge has one other face: count without collecting.
+                let mut found = others();
+                let shared = match (found.next(), found.next()) {
+                    (None, _) => None,
+                    (Some(only), None) => Some(only),
+                    _ => {
+                        sharers.clear();
+                        sharers.extend(others());
+                        None
+                    }
+                };
+                match (shared, sharers.is_empty()) {
+                    (None, true) => {
                         neighbours[f][k] = NO_FACE;
                         boundary_edges += 1;
                     }
-                    &[(g, same_direction)] => {
+                    (Some((g, same_direction)), _) => {
                         let (g, slot) = (g >> 2, (g & 3) as usize);
                         neighbours[f][k] = g;
                         neighbours[g as usize][slot] = f as u32;
                         union_find.union(f as u32, g);
                         winding_conflicts += usize::from(same_direction);
                     }
-                    _ => {
+                    (None, false) => {
                         // Every sharer will meet this edge; mark them all now, count it once.
                         neighbours[f][k] = NO_FACE;
                         for &(g, _) in &sharers {
                             neighbours[(g >> 2) as usize][(g & 3) as usize] = NO_FACE;
                             union_find.union(f as u32, g >> 2);
                         }
+                        sharers.clear();
                         non_manifold_edges += 1;
                     }
                 }

@@ -154,6 +154,8 @@ impl Grower<'_> {
         self.members.push(seed as u32);
         self.patch_of[seed] = p;
         let mut sum = self.weighted(seed);
+        // |sum|, recomputed only when sum changes.
+        let mut len = sum.norm();
         let mut head = 0;
         for _ in 0..=RETRY_ROUNDS {
             // Step 3): look at the neighbours of the patch's faces.
@@ -167,9 +169,10 @@ impl Grower<'_> {
                     {
                         continue;
                     }
-                    if self.fits(g, &sum, sum.norm()) {
+                    if self.fits(g, &sum, len) {
                         self.patch_of[g] = p;
                         sum += self.weighted(g);
+                        len = sum.norm();
                         self.members.push(g as u32);
                     } else {
                         self.stamp[g] = self.attempt;
@@ -182,9 +185,10 @@ impl Grower<'_> {
             let refused = std::mem::take(&mut self.refused);
             for &g in &refused {
                 let g = g as usize;
-                if self.patch_of[g] == UNASSIGNED && self.fits(g, &sum, sum.norm()) {
+                if self.patch_of[g] == UNASSIGNED && self.fits(g, &sum, len) {
                     self.patch_of[g] = p;
                     sum += self.weighted(g);
+                    len = sum.norm();
                     self.members.push(g as u32);
                 } else if self.patch_of[g] == UNASSIGNED {
                     self.refused.push(g as u32);
