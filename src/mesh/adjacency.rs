@@ -2,16 +2,15 @@
 //!
 //! No paper: every face edge is filed under its smaller vertex `u`, in one of two runs by
 //! direction (`u → w` or `w → u`), with the other vertex `w` and its `(face, corner)`
-//! (a counting sort); face edge `a → b` finds in the runs of `min(a, b)` the faces with
-//! `b → a` (consistently wound neighbours) and those with `a → b` (neighbours wound the
-//! other way), both in one place in memory. An edge with one other face links the
-//! two; with none it is a boundary edge; with two or more it is non-manifold and links
-//! nobody, because a surface cannot be processed across such an edge as one sheet. Faces
-//! that repeat a vertex (collapsed to a line or point) link nobody.
-//! Runs longer than [`SCAN_LIMIT`] (a vertex of high valence, as at the centre of a disc
-//! tessellated as a fan, or an edge shared by thousands of faces) are sorted by other
-//! vertex and searched by bisection; shorter runs, almost all of them, are scanned. A
-//! non-manifold edge is resolved once, for all its faces.
+//! (a counting sort). Then, vertex by vertex, each run is sorted by `w`, and the entries
+//! with the same `w` in the two runs are all the faces on edge `u – w`, those in opposite
+//! runs wound consistently, those in the same run the other way round. An edge with two
+//! faces links them; with one it is a boundary edge; with three or more it is non-manifold
+//! and links nobody, because a surface cannot be processed across such an edge as one
+//! sheet. Faces that repeat a vertex (collapsed to a line or point) link nobody.
+//! Every edge is resolved once, in a sequential walk over the runs; a vertex of high
+//! valence (the centre of a disc tessellated as a fan, an edge shared by thousands of
+//! faces) costs a sort of its runs, never a scan per face.
 //! Cost: O(n log n) whatever the valence (O(n) at bounded valence); about 30 bytes a face
 //! of scratch, read in contiguous runs per vertex.
 
@@ -62,24 +61,6 @@ impl UnionFind {
 struct OutEdge {
     face_corner: u32,
     to: u32,
-}
-
-/// Out-edge runs longer than this are sorted and bisected rather than scanned (no paper:
-/// below it a scan of a cache line or two beats a search; typical valence is 6).
-const SCAN_LIMIT: usize = 16;
-
-/// The edges in `run` (edges of one vertex and direction) whose other vertex is `to`: a scan
-/// of short runs, a bisection of long ones (sorted by other vertex).
-#[inline]
-fn edges_to(run: &[OutEdge], to: u32) -> impl Iterator<Item = &OutEdge> {
-    let run = if run.len() <= SCAN_LIMIT {
-        run
-    } else {
-        let start = run.partition_point(|e| e.to < to);
-        let len = run[start..].partition_point(|e| e.to == to);
-        &run[start..start + len]
-    };
-    run.iter().filter(move |e| e.to == to)
 }
 
 /// Most faces a mesh may have here: face ids are packed with a 2-bit corner into a `u32`.
@@ -138,81 +119,68 @@ impl FaceAdjacency {
             }
         }
         drop(fill);
-        for r in 0..2 * vertex_count {
-            let run = &mut out[offsets[r] as usize..offsets[r + 1] as usize];
-            if run.len() > SCAN_LIMIT {
-                // (other vertex, face·4 + corner) is unique: the order is deterministic.
-                run.sort_unstable_by_key(|e| (e.to, e.face_corner));
-            }
-        }
-        let run = |r: usize| &out[offsets[r] as usize..offsets[r + 1] as usize];
-
-        const UNSEEN: u32 = u32::MAX - 1;
-        let mut neighbours = vec![[UNSEEN; 3]; n];
+        let mut neighbours = vec![[NO_FACE; 3]; n];
         let mut union_find = UnionFind((0..n as u32).collect());
         let (mut boundary_edges, mut non_manifold_edges, mut winding_conflicts) = (0, 0, 0);
-        // (face·4 + corner, wound the same way as f) of every other face on the edge.
-        let mut sharers: Vec<(u32, bool)> = Vec::with_capacity(8);
-        for f in 0..n {
-            if f % super::PROGRESS_EVERY == 0 {
-                progress("adjacency", f as f64 / n as f64);
+        // Vertex by vertex, the faces on each edge `u – w` are the entries with other vertex
+        // `w` in the two runs of `u`: sorted by `(w, face·4 + corner)` (a unique key, so the
+        // order is deterministic), equal `w` are neighbours. Every edge is resolved once, so
+        // the result does not depend on the order of the edges (the union–find's roots are
+        // the smallest faces whatever the order of the unions).
+        for u in 0..vertex_count {
+            if u % super::PROGRESS_EVERY == 0 {
+                progress("adjacency", u as f64 / vertex_count as f64);
             }
-            let t = triangles[f];
-            if collapsed(&t) {
-                neighbours[f] = [NO_FACE; 3];
-                continue;
-            }
-            for k in 0..3 {
-                if neighbours[f][k] != UNSEEN {
-                    continue;
+            let (o0, o1, o2) = (
+                offsets[2 * u] as usize,
+                offsets[2 * u + 1] as usize,
+                offsets[2 * u + 2] as usize,
+            );
+            let key = |e: &OutEdge| (e.to, e.face_corner);
+            out[o0..o1].sort_unstable_by_key(key);
+            out[o1..o2].sort_unstable_by_key(key);
+            let (leaving, arriving) = out[o0..o2].split_at(o1 - o0);
+            let (mut i, mut j) = (0, 0);
+            // Ends: each pass consumes at least one entry of the two runs.
+            while i < leaving.len() || j < arriving.len() {
+                let w = match (leaving.get(i), arriving.get(j)) {
+                    (Some(a), Some(b)) => a.to.min(b.to),
+                    (Some(a), None) => a.to,
+                    (None, Some(b)) => b.to,
+                    (None, None) => break,
+                };
+                let i0 = i;
+                while i < leaving.len() && leaving[i].to == w {
+                    i += 1;
                 }
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                let (u, w) = (a.min(b), a.max(b));
-                // The edges u → w and w → u; this face's own edge is among those of its
-                // direction.
-                let (same, opposite) = if a < b {
-                    (2 * u as usize, 2 * u as usize + 1)
-                } else {
-                    (2 * u as usize + 1, 2 * u as usize)
-                };
-                let others = || {
-                    let opposite = edges_to(run(opposite), w).map(|e| (e.face_corner, false));
-                    let same = edges_to(run(same), w)
-                        .filter(|e| (e.face_corner >> 2) as usize != f)
-                        .map(|e| (e.face_corner, true));
-                    opposite.chain(same)
-                };
-                // Almost every edge has one other face: count without collecting.
-                let mut found = others();
-                let shared = match (found.next(), found.next()) {
-                    (None, _) => None,
-                    (Some(only), None) => Some(only),
+                let j0 = j;
+                while j < arriving.len() && arriving[j].to == w {
+                    j += 1;
+                }
+                let (forward, backward) = (&leaving[i0..i], &arriving[j0..j]);
+                match forward.len() + backward.len() {
+                    1 => boundary_edges += 1,
+                    2 => {
+                        let nth = |x: usize| match forward.get(x) {
+                            Some(e) => e.face_corner,
+                            None => backward[x - forward.len()].face_corner,
+                        };
+                        let (f, g) = (nth(0), nth(1));
+                        neighbours[(f >> 2) as usize][(f & 3) as usize] = g >> 2;
+                        neighbours[(g >> 2) as usize][(g & 3) as usize] = f >> 2;
+                        union_find.union(f >> 2, g >> 2);
+                        // Both on one side: they traverse the edge the same way.
+                        winding_conflicts += usize::from(backward.len() != 1);
+                    }
                     _ => {
-                        sharers.clear();
-                        sharers.extend(others());
-                        None
-                    }
-                };
-                match (shared, sharers.is_empty()) {
-                    (None, true) => {
-                        neighbours[f][k] = NO_FACE;
-                        boundary_edges += 1;
-                    }
-                    (Some((g, same_direction)), _) => {
-                        let (g, slot) = (g >> 2, (g & 3) as usize);
-                        neighbours[f][k] = g;
-                        neighbours[g as usize][slot] = f as u32;
-                        union_find.union(f as u32, g);
-                        winding_conflicts += usize::from(same_direction);
-                    }
-                    (None, false) => {
-                        // Every sharer will meet this edge; mark them all now, count it once.
-                        neighbours[f][k] = NO_FACE;
-                        for &(g, _) in &sharers {
-                            neighbours[(g >> 2) as usize][(g & 3) as usize] = NO_FACE;
-                            union_find.union(f as u32, g >> 2);
+                        // Three or more faces: they link nobody (their slots stay NO_FACE)
+                        // but share a component.
+                        let mut faces = forward.iter().chain(backward).map(|e| e.face_corner >> 2);
+                        if let Some(hub) = faces.next() {
+                            for g in faces {
+                                union_find.union(hub, g);
+                            }
                         }
-                        sharers.clear();
                         non_manifold_edges += 1;
                     }
                 }
