@@ -55,7 +55,13 @@ pub fn grow_regions(
         }
     };
     if geometry.degenerate_count() == 0 {
-        return components(adjacency, pair_joins);
+        // One closure per criterion, so that each is inlined in the pass.
+        return match threshold {
+            GrowthThreshold::Angle(_) => {
+                components(adjacency, |t, g| normals[t].dot(&normals[g]) > cos_alpha)
+            }
+            GrowthThreshold::Curvature(_) => components(adjacency, pair_joins),
+        };
     }
     let mut region_of = vec![UNASSIGNED; n];
     // The face whose normal a face stands in with: itself, or for a degenerate face the one
