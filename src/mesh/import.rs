@@ -1,8 +1,8 @@
 //! The whole import: STL bytes → welded, consistently wound mesh with its adjacency,
 //! per-face geometry and a report of what was found.
 
-use super::stl::read_stl_with_progress;
 use super::orientation::orient_and_measure;
+use super::stl::read_stl_with_progress;
 use super::{FaceAdjacency, FaceGeometry, StlError, StlFormat, TriMesh};
 use crate::math::Real;
 

@@ -44,6 +44,8 @@ const EMPTY: Slot = Slot {
     id: EMPTY_ID,
 };
 const RECENT_SLOTS: usize = 1 << 14;
+/// The bit pattern of `-0.0_f32`.
+const NEGATIVE_ZERO: u32 = 0x8000_0000;
 /// Provisional vertices per bucket in `finish`, on average (a bucket and its table stay in
 /// L2; no paper).
 const BUCKET_TARGET: usize = 4096;
@@ -83,6 +85,19 @@ impl Welder {
         let ids = corners.map(|c| self.vertex_id(canonical_bits(&c)));
         self.triangles.push(ids);
         self.triangles.len() - 1
+    }
+
+    /// [`Welder::add_triangle`] for corners given as the bit patterns of finite `f32`s.
+    #[inline]
+    pub(crate) fn add_triangle_bits(&mut self, corners: &[[u32; 3]; 3]) {
+        debug_assert!(corners
+            .iter()
+            .flatten()
+            .all(|&b| f32::from_bits(b).is_finite()));
+        // `(c + 0.0)` only changes −0.0 (into +0.0): the same canonical patterns.
+        let ids =
+            corners.map(|c| self.vertex_id(c.map(|b| if b == NEGATIVE_ZERO { 0 } else { b })));
+        self.triangles.push(ids);
     }
 
     #[inline]

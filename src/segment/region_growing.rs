@@ -82,7 +82,11 @@ pub fn grow_regions(
     let mut count = 0u32;
     // Seeds with a usable normal first, so degenerate faces only seed all-degenerate regions
     // (a second round, needed only if there are degenerate faces).
-    let rounds = if geometry.degenerate_count() == 0 { 1 } else { 2 };
+    let rounds = if geometry.degenerate_count() == 0 {
+        1
+    } else {
+        2
+    };
     let seeds = (0..rounds).flat_map(|round| (0..n).map(move |f| (round, f)));
     for (round, seed) in seeds {
         if region_of[seed] != UNASSIGNED || geometry.is_degenerate(seed) != (round == 1) {
