@@ -145,15 +145,18 @@ impl Grower<'_> {
             .fold(Vector3::zeros(), |s, &f| s + self.weighted(f as usize))
     }
 
-    /// Grows patch `p` from `seed` against the running mean, with retries.
-    fn grow(&mut self, seed: usize, p: u32) {
+    /// Grows patch `p` from `seed` against the running mean, with retries; returns the sum
+    /// of the members' weighted normals, bit for bit [`Grower::sum_of_members`].
+    fn grow(&mut self, seed: usize, p: u32) -> Vector3 {
         let region = self.region_of[seed];
         self.attempt += 1;
         self.members.clear();
         self.refused.clear();
         self.members.push(seed as u32);
         self.patch_of[seed] = p;
-        let mut sum = self.weighted(seed);
+        // Summed from zero in member order, as `sum_of_members` does (which only matters
+        // for the sign of zero components).
+        let mut sum = Vector3::zeros() + self.weighted(seed);
         // |sum|, recomputed only when sum changes.
         let mut len = sum.norm();
         let mut head = 0;
@@ -198,6 +201,7 @@ impl Grower<'_> {
                 break;
             }
         }
+        sum
     }
 
     fn release(&mut self, f: u32) {
@@ -252,9 +256,15 @@ impl Grower<'_> {
     /// Each round sums the members once and lists those within [`TRIM_MARGIN_RAD`] of the
     /// limit; while the mean moves less than the margin only they can fall outside, so
     /// trimming re-checks just that list. Then the largest connected part is kept.
-    fn repair(&mut self, p: u32) {
+    /// `grown_sum` is the members' sum as `grow` left them.
+    fn repair(&mut self, p: u32, grown_sum: Vector3) {
+        debug_assert_eq!(
+            grown_sum.map(Real::to_bits),
+            self.sum_of_members().map(Real::to_bits)
+        );
+        let mut known_sum = Some(grown_sum);
         for _ in 0..REPAIR_ROUNDS {
-            let mut sum = self.sum_of_members();
+            let mut sum = known_sum.take().unwrap_or_else(|| self.sum_of_members());
             let anchor = sum;
             let anchor_len = anchor.norm();
             let mut near: Vec<u32> = self
@@ -414,8 +424,8 @@ pub fn planarise(
             }
         };
         let Some(seed) = seed else { break };
-        grower.grow(seed, count);
-        grower.repair(count);
+        let sum = grower.grow(seed, count);
+        grower.repair(count, sum);
         if grower.members.is_empty() {
             // Repair released every face (possible when the mean of what grew fits none of
             // them): the seed alone is a patch, within θmax of its own normal for any
