@@ -20,8 +20,28 @@ fn measure([a, b, c]: [Point3; 3]) -> (Vector3, Real, Point3) {
     } else {
         Vector3::zeros()
     };
-    let centroid = Point3::from((a.coords + b.coords + c.coords) / 3.0);
-    (normal, 0.5 * twice_area, centroid)
+    (normal, 0.5 * twice_area, centroid(a, b, c))
+}
+
+/// Mean of three corners, summed in the order given.
+#[inline]
+fn centroid(a: Point3, b: Point3, c: Point3) -> Point3 {
+    Point3::from((a.coords + b.coords + c.coords) / 3.0)
+}
+
+/// For [`FaceGeometry::reverse`]: which components of the cross product of the face with
+/// corners `[a, b, c]` in the reversed winding, `(c − a) × (b − a)`, are zero (bit `k`) and
+/// which of those are `−0` (bit `3 + k`).
+#[inline]
+pub(crate) fn reversed_zeros([a, b, c]: [Point3; 3]) -> u8 {
+    let s = (c - a).cross(&(b - a));
+    (0..3).fold(0, |bits, k| {
+        if s[k] == 0.0 {
+            bits | 1 << k | u8::from(s[k].is_sign_negative()) << (3 + k)
+        } else {
+            bits
+        }
+    })
 }
 
 /// Unit normal, area and centroid of every face, indexed by face id.
@@ -67,17 +87,36 @@ impl FaceGeometry {
         self.centroids.push(centroid);
     }
 
-    /// Recomputes face `f` from `corners`, its corners after its winding was reversed.
+    /// Updates face `f` after its winding was reversed by swapping corners 1 and 2, to
+    /// exactly what [`FaceGeometry::new`] computes in the new winding, given `corners` (the
+    /// new ones) and `zeros` ([`reversed_zeros`] of the old ones).
+    ///
+    /// The reversed cross product `(c − a) × (b − a)` has components `p − q` where the kept
+    /// one has `q − p`: exactly its negation, except that a zero's sign depends on `p` and
+    /// `q`, hence `zeros`. Its norm (the area) and the squared edge lengths (the degenerate
+    /// test) are the same, so a unit normal is negated component by component and a zero
+    /// one stays; only the centroid, whose rounding depends on the order of its sum, is
+    /// summed again.
     #[inline]
-    pub(crate) fn flip(&mut self, f: usize, corners: [Point3; 3]) {
-        let (normal, area, centroid) = measure(corners);
-        // The same set of edge lengths and an opposite cross product: whether the face is
-        // degenerate does not change, but the count is kept right regardless.
-        self.degenerate -= usize::from(self.normals[f] == Vector3::zeros());
-        self.degenerate += usize::from(normal == Vector3::zeros());
-        self.normals[f] = normal;
-        self.areas[f] = area;
-        self.centroids[f] = centroid;
+    pub(crate) fn reverse(&mut self, f: usize, zeros: u8, corners: [Point3; 3]) {
+        let normal = self.normals[f];
+        if normal != Vector3::zeros() {
+            self.normals[f] =
+                Vector3::from_fn(|k, _| match (zeros >> k & 1, zeros >> (3 + k) & 1) {
+                    (0, _) => -normal[k],
+                    (_, 0) => 0.0,
+                    _ => -0.0,
+                });
+        }
+        let [a, b, c] = corners;
+        self.centroids[f] = centroid(a, b, c);
+        debug_assert_eq!(
+            (self.normals[f].map(Real::to_bits), self.areas[f].to_bits()),
+            {
+                let (n, area, _) = measure(corners);
+                (n.map(Real::to_bits), area.to_bits())
+            }
+        );
     }
 
     /// Number of faces.

@@ -3,7 +3,7 @@
 
 use super::orientation::orient_and_measure;
 use super::stl::read_stl_with_progress;
-use super::{FaceAdjacency, FaceGeometry, StlError, StlFormat, TriMesh};
+use super::{FaceAdjacency, FaceGeometry, StlError, StlFormat, StlImport, TriMesh};
 use crate::math::Real;
 
 /// What a user should know about an imported mesh (serialised for JavaScript in camelCase).
@@ -60,7 +60,16 @@ pub fn import_stl(
     bytes: &[u8],
     progress: &mut dyn FnMut(&str, f64),
 ) -> Result<ImportedMesh, StlError> {
-    let import = read_stl_with_progress(bytes, progress)?;
+    prepare_mesh(read_stl_with_progress(bytes, progress)?, progress)
+}
+
+/// The second half of [`import_stl`], for a mesh already read (so that the caller can free
+/// the file's bytes first): adjacency, winding, geometry and report, with the stages
+/// `adjacency`, `orient`, `geometry`.
+pub fn prepare_mesh(
+    import: StlImport,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<ImportedMesh, StlError> {
     let mut mesh = import.mesh;
     let mut adjacency = FaceAdjacency::with_progress(&mesh, progress);
     progress("orient", 0.0);

@@ -10,7 +10,7 @@
 //! are the components and only closed ones with negative volume are turned (one pass).
 //! Cost: linear in faces; 5 bytes a face of scratch.
 
-use super::{FaceAdjacency, FaceGeometry, TriMesh};
+use super::{face_geometry, FaceAdjacency, FaceGeometry, TriMesh};
 use crate::math::Point3;
 
 /// What [`orient_consistently`] changed.
@@ -42,7 +42,8 @@ pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) ->
 
 /// [`orient_consistently`] followed by [`FaceGeometry::new`] in the new winding, with the
 /// same results; on the fast path the geometry is computed in the pass that sums the
-/// volumes (and patched for the faces turned), so the corners are read once.
+/// volumes, and a face turned afterwards gets its normal from the kept one (exactly, see
+/// [`FaceGeometry::reverse`]) and its centroid summed again.
 pub(crate) fn orient_and_measure(
     mesh: &mut TriMesh,
     adjacency: &mut FaceAdjacency,
@@ -171,6 +172,11 @@ fn turn_closed_components_outwards(
     let mut closed = vec![true; count];
     // Relative to a vertex of each component, for accuracy far from the origin.
     let mut origin = vec![None; count];
+    // With geometry: what a face's reversal needs besides its corners (1 byte a face).
+    let mut reversed_zeros: Vec<u8> = Vec::new();
+    if geometry.is_some() {
+        reversed_zeros.reserve_exact(mesh.triangle_count());
+    }
     for f in 0..mesh.triangle_count() {
         let c = adjacency.component_of()[f] as usize;
         let corners = mesh.corners(f);
@@ -179,6 +185,7 @@ fn turn_closed_components_outwards(
         closed[c] &= !adjacency.neighbours(f).contains(&super::NO_FACE);
         if let Some(geometry) = geometry.as_deref_mut() {
             geometry.push(corners);
+            reversed_zeros.push(face_geometry::reversed_zeros(corners));
         }
     }
     let mut report = OrientationReport {
@@ -191,7 +198,7 @@ fn turn_closed_components_outwards(
             mesh.flip(f);
             adjacency.flip(f);
             if let Some(geometry) = geometry.as_deref_mut() {
-                geometry.flip(f, mesh.corners(f));
+                geometry.reverse(f, reversed_zeros[f], mesh.corners(f));
             }
             report.flipped_faces += 1;
         }
