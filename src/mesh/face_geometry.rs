@@ -77,6 +77,26 @@ impl FaceGeometry {
         }
     }
 
+    /// `n` faces of zero geometry, to be [`FaceGeometry::set`] one by one.
+    pub(crate) fn zeroed(n: usize) -> Self {
+        FaceGeometry {
+            normals: vec![Vector3::zeros(); n],
+            areas: vec![0.0; n],
+            centroids: vec![Point3::origin(); n],
+            degenerate: 0,
+        }
+    }
+
+    /// Computes face `f` (of a [`FaceGeometry::zeroed`]) from its corners; each face once.
+    #[inline]
+    pub(crate) fn set(&mut self, f: usize, corners: [Point3; 3]) {
+        let (normal, area, centroid) = measure(corners);
+        self.degenerate += usize::from(normal == Vector3::zeros());
+        self.normals[f] = normal;
+        self.areas[f] = area;
+        self.centroids[f] = centroid;
+    }
+
     /// Appends the face with corners `[a, b, c]` (in its winding).
     #[inline]
     pub(crate) fn push(&mut self, corners: [Point3; 3]) {

@@ -37,7 +37,7 @@ pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) ->
     if adjacency.winding_conflicts() == 0 && adjacency.non_manifold_edges() == 0 {
         return turn_closed_components_outwards(mesh, adjacency, None);
     }
-    propagate_winding(mesh, adjacency)
+    propagate_winding(mesh, adjacency, None)
 }
 
 /// [`orient_consistently`] followed by [`FaceGeometry::new`] in the new winding, with the
@@ -53,12 +53,20 @@ pub(crate) fn orient_and_measure(
         let report = turn_closed_components_outwards(mesh, adjacency, Some(&mut geometry));
         return (report, geometry);
     }
-    let report = propagate_winding(mesh, adjacency);
-    (report, FaceGeometry::new(mesh))
+    let mut geometry = FaceGeometry::zeroed(mesh.triangle_count());
+    let report = propagate_winding(mesh, adjacency, Some(&mut geometry));
+    debug_assert!(geometry == FaceGeometry::new(mesh));
+    (report, geometry)
 }
 
-/// The general case: breadth-first propagation of the winding over manifold edges.
-fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> OrientationReport {
+/// The general case: breadth-first propagation of the winding over manifold edges. With
+/// `geometry` ([`FaceGeometry::zeroed`]), also computes the face geometry in the final
+/// winding, in the passes that read the corners anyway.
+fn propagate_winding(
+    mesh: &mut TriMesh,
+    adjacency: &mut FaceAdjacency,
+    mut geometry: Option<&mut FaceGeometry>,
+) -> OrientationReport {
     const UNSET: u8 = 0;
     const KEEP: u8 = 1;
     const FLIP: u8 = 2;
@@ -66,6 +74,8 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
     let mut state = vec![UNSET; n];
     let mut queue: Vec<u32> = Vec::with_capacity(n);
     let mut report = OrientationReport::default();
+    // With geometry: what a face's reversal needs besides its corners (1 byte a face).
+    let mut reversed_zeros = vec![0u8; if geometry.is_some() { n } else { 0 }];
 
     for seed in 0..n {
         if state[seed] != UNSET {
@@ -111,6 +121,12 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
             let volume: f64 = part
                 .iter()
                 .map(|&f| {
+                    measure(
+                        geometry.as_deref_mut(),
+                        &mut reversed_zeros,
+                        mesh,
+                        f as usize,
+                    );
                     let v = signed_volume6(mesh, f as usize, &origin);
                     if state[f as usize] == FLIP {
                         -v
@@ -123,6 +139,12 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
         } else {
             let (mut kept, mut flipped) = (0.0, 0.0);
             for &f in part {
+                measure(
+                    geometry.as_deref_mut(),
+                    &mut reversed_zeros,
+                    mesh,
+                    f as usize,
+                );
                 let area = mesh.scaled_normal(f as usize).norm();
                 if state[f as usize] == FLIP {
                     flipped += area;
@@ -137,6 +159,9 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
             if (state[f] == FLIP) != flip_whole_part {
                 mesh.flip(f);
                 adjacency.flip(f);
+                if let Some(geometry) = geometry.as_deref_mut() {
+                    geometry.reverse(f, reversed_zeros[f], mesh.corners(f));
+                }
                 report.flipped_faces += 1;
             }
         }
@@ -144,6 +169,21 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
     debug_assert_eq!(queue.len(), n);
     adjacency.set_winding_conflicts(report.inconsistent_edges);
     report
+}
+
+/// With `geometry`, computes face `f`'s geometry and what its reversal needs.
+#[inline]
+fn measure(
+    geometry: Option<&mut FaceGeometry>,
+    reversed_zeros: &mut [u8],
+    mesh: &TriMesh,
+    f: usize,
+) {
+    if let Some(geometry) = geometry {
+        let corners = mesh.corners(f);
+        geometry.set(f, corners);
+        reversed_zeros[f] = face_geometry::reversed_zeros(corners);
+    }
 }
 
 /// Signed volume of tetrahedra from `origin` over a face (positive for an outward face of a
