@@ -10,7 +10,8 @@
 //   - mesh.segment with the paper's parameters (α 0.35 rad, θmax 1 rad, ε 10 %)
 //   - three.js STLLoader.parse of the same bytes (a plain, unwelded parse) for comparison
 //   - WebAssembly memory after import + segmentation, per triangle
-// Times are medians of several runs after a warm-up.
+// Times are medians of several runs after a warm-up. `BENCH_STAGES=1 npm run bench` also
+// prints the median time of each stage, from the progress reports (see stageTimes).
 // Spray cases: a generated cylindrical skin panel; Mesh.fromStl as the yardstick, one
 // planSpray (plan + simulate at one spacing) and one spacing search (maxError 0.2), with the
 // evaluation samples per second of the single plan. `npm run bench -- spray` runs only those.
@@ -27,8 +28,8 @@ import { dirname, join } from 'node:path';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_000],
-  ['fuselage', 2_000_000], ['grid', 1_000_000], ['fan', 80_000], ['fan', 1_000_000],
-  ['book', 50_000]];
+  ['fuselage', 2_000_000], ['fuselage', 4_000_000], ['grid', 1_000_000], ['fan', 80_000],
+  ['fan', 1_000_000], ['book', 50_000]];
 const SHAPES = ['fuselage', 'grid', 'fan', 'book'];
 const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000").split(",").map(Number);
 const GEODESIC_CASES = (process.env.GEODESIC_CASES ?? "cylinder:200000,cylinder:2000000,wave:500000")
@@ -266,7 +267,7 @@ async function runOne(shape, target) {
   const bytes = GENERATORS[shape](target);
   const triangles = (bytes.length - 84) / 50;
   const params = { angleThreshold: 0.35, thetaMax: 1, minAreaRatio: 0.1 };
-  const runs = triangles > 1_500_000 ? 5 : 9;
+  const runs = triangles > 3_000_000 ? 3 : triangles > 1_500_000 ? 5 : 9;
 
   // First run: memory of one import + segmentation from a fresh module.
   let mesh = Mesh.fromStl(bytes);
