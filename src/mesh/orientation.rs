@@ -237,8 +237,9 @@ fn turn_closed_components_outwards(
         if closed[c] && volume[c] < 0.0 {
             mesh.flip(f);
             adjacency.flip(f);
-            if let Some(geometry) = geometry.as_deref_mut() {
-                geometry.reverse(f, reversed_zeros[f], mesh.corners(f));
+            if let (Some(geometry), Some(&zeros)) = (geometry.as_deref_mut(), reversed_zeros.get(f))
+            {
+                geometry.reverse(f, zeros, mesh.corners(f));
             }
             report.flipped_faces += 1;
         }

@@ -12,6 +12,7 @@
 //!    earliest copy; the survivors keep their relative order, so the numbering is the same
 //!    as a single global table would give. With no duplicate (the common case for files
 //!    written surface by surface) nothing is renumbered.
+//!
 //! This replaces one random access into a table of 32 bytes a vertex per new vertex (the
 //! cost of welding large files) with sequential passes.
 //! `-0.0` and `+0.0` count as the same coordinate.
