@@ -107,8 +107,9 @@ impl Welder {
         if slot.id != EMPTY_ID && slot.bits == bits {
             return slot.id;
         }
-        // Ids beyond u32 are refused by TriMesh::new (TooLarge) via the triangle count long
-        // before: a triangle adds at most three vertices, and faces are capped far lower.
+        // At most three ids a triangle: below 2^32 for up to MAX_FACES triangles. Beyond that
+        // an id could wrap (still a valid index of `bits`), but such a mesh is refused as
+        // too large (TriMesh::from_welded) after `finish`.
         let id = self.bits.len() as u32;
         self.bits.push(bits);
         *slot = Slot { bits, id };
