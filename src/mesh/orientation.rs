@@ -8,7 +8,9 @@
 //! A non-orientable patch (a Möbius strip) keeps one edge inconsistent; those are counted.
 //! Fast path: when the adjacency found no wrongly wound and no non-manifold edge, the parts
 //! are the components and only closed ones with negative volume are turned (one pass).
-//! Cost: linear in faces; 5 bytes a face of scratch.
+//! For the import, the face geometry is computed along, in the passes that read the
+//! corners (see `orient_and_measure`).
+//! Cost: linear in faces; 5 bytes a face of scratch, one more with the geometry.
 
 use super::{face_geometry, FaceAdjacency, FaceGeometry, TriMesh};
 use crate::math::Point3;
