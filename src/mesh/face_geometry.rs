@@ -29,21 +29,6 @@ fn centroid(a: Point3, b: Point3, c: Point3) -> Point3 {
     Point3::from((a.coords + b.coords + c.coords) / 3.0)
 }
 
-/// For [`FaceGeometry::reverse`]: which components of the cross product of the face with
-/// corners `[a, b, c]` in the reversed winding, `(c − a) × (b − a)`, are zero (bit `k`) and
-/// which of those are `−0` (bit `3 + k`).
-#[inline]
-pub(crate) fn reversed_zeros([a, b, c]: [Point3; 3]) -> u8 {
-    let s = (c - a).cross(&(b - a));
-    (0..3).fold(0, |bits, k| {
-        if s[k] == 0.0 {
-            bits | 1 << k | u8::from(s[k].is_sign_negative()) << (3 + k)
-        } else {
-            bits
-        }
-    })
-}
-
 /// Unit normal, area and centroid of every face, indexed by face id.
 ///
 /// A degenerate face (height below [`DEGENERATE_HEIGHT_RATIO`] of its longest edge, which
@@ -77,26 +62,6 @@ impl FaceGeometry {
         }
     }
 
-    /// `n` faces of zero geometry, to be [`FaceGeometry::set`] one by one.
-    pub(crate) fn zeroed(n: usize) -> Self {
-        FaceGeometry {
-            normals: vec![Vector3::zeros(); n],
-            areas: vec![0.0; n],
-            centroids: vec![Point3::origin(); n],
-            degenerate: 0,
-        }
-    }
-
-    /// Computes face `f` (of a [`FaceGeometry::zeroed`]) from its corners; each face once.
-    #[inline]
-    pub(crate) fn set(&mut self, f: usize, corners: [Point3; 3]) {
-        let (normal, area, centroid) = measure(corners);
-        self.degenerate += usize::from(normal == Vector3::zeros());
-        self.normals[f] = normal;
-        self.areas[f] = area;
-        self.centroids[f] = centroid;
-    }
-
     /// Appends the face with corners `[a, b, c]` (in its winding).
     #[inline]
     pub(crate) fn push(&mut self, corners: [Point3; 3]) {
@@ -108,27 +73,31 @@ impl FaceGeometry {
     }
 
     /// Updates face `f` after its winding was reversed by swapping corners 1 and 2, to
-    /// exactly what [`FaceGeometry::new`] computes in the new winding, given `corners` (the
-    /// new ones) and `zeros` ([`reversed_zeros`] of the old ones).
+    /// exactly what [`FaceGeometry::new`] computes from `corners`, the new ones.
     ///
-    /// The reversed cross product `(c − a) × (b − a)` has components `p − q` where the kept
-    /// one has `q − p`: exactly its negation, except that a zero's sign depends on `p` and
-    /// `q`, hence `zeros`. Its norm (the area) and the squared edge lengths (the degenerate
-    /// test) are the same, so a unit normal is negated component by component and a zero
-    /// one stays; only the centroid, whose rounding depends on the order of its sum, is
-    /// summed again.
+    /// The new cross product `(c − a) × (b − a)` has components `p − q` where the old one
+    /// had `q − p`: exactly its negation where it is not zero (the sign of a zero depends on
+    /// `p` and `q`, so it is taken from the new product). Its norm (the area) and the
+    /// squared edge lengths (the degenerate test) are the same, so the unit normal is the
+    /// old one negated component by component, a zero component being the new product's
+    /// zero divided by the same area, and a degenerate normal stays zero; the square root,
+    /// the edge lengths and the divisions are not redone. The centroid, whose rounding
+    /// depends on the order of its sum, is summed again.
     #[inline]
-    pub(crate) fn reverse(&mut self, f: usize, zeros: u8, corners: [Point3; 3]) {
+    pub(crate) fn reverse(&mut self, f: usize, corners: [Point3; 3]) {
+        let [a, b, c] = corners;
         let normal = self.normals[f];
         if normal != Vector3::zeros() {
-            self.normals[f] =
-                Vector3::from_fn(|k, _| match (zeros >> k & 1, zeros >> (3 + k) & 1) {
-                    (0, _) => -normal[k],
-                    (_, 0) => 0.0,
-                    _ => -0.0,
-                });
+            let scaled = (b - a).cross(&(c - a));
+            self.normals[f] = Vector3::from_fn(|k, _| {
+                if scaled[k] == 0.0 {
+                    // ±0 divided by a positive area keeps its sign.
+                    scaled[k]
+                } else {
+                    -normal[k]
+                }
+            });
         }
-        let [a, b, c] = corners;
         self.centroids[f] = centroid(a, b, c);
         debug_assert_eq!(
             (self.normals[f].map(Real::to_bits), self.areas[f].to_bits()),

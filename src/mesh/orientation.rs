@@ -8,11 +8,11 @@
 //! A non-orientable patch (a Möbius strip) keeps one edge inconsistent; those are counted.
 //! Fast path: when the adjacency found no wrongly wound and no non-manifold edge, the parts
 //! are the components and only closed ones with negative volume are turned (one pass).
-//! For the import, the face geometry is computed along, in the passes that read the
-//! corners (see `orient_and_measure`).
-//! Cost: linear in faces; 5 bytes a face of scratch, one more with the geometry.
+//! For the import, the fast path computes the face geometry along, in the pass that reads
+//! the corners (see `orient_and_measure`).
+//! Cost: linear in faces; 5 bytes a face of scratch.
 
-use super::{face_geometry, FaceAdjacency, FaceGeometry, TriMesh};
+use super::{FaceAdjacency, FaceGeometry, TriMesh};
 use crate::math::Point3;
 
 /// What [`orient_consistently`] changed.
@@ -39,13 +39,13 @@ pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) ->
     if adjacency.winding_conflicts() == 0 && adjacency.non_manifold_edges() == 0 {
         return turn_closed_components_outwards(mesh, adjacency, None);
     }
-    propagate_winding(mesh, adjacency, None)
+    propagate_winding(mesh, adjacency)
 }
 
 /// [`orient_consistently`] followed by [`FaceGeometry::new`] in the new winding, with the
 /// same results; on the fast path the geometry is computed in the pass that sums the
-/// volumes, and a face turned afterwards gets its normal from the kept one (exactly, see
-/// [`FaceGeometry::reverse`]) and its centroid summed again.
+/// volumes, and a face turned afterwards is updated (exactly, see
+/// [`FaceGeometry::reverse`]) rather than measured again.
 pub(crate) fn orient_and_measure(
     mesh: &mut TriMesh,
     adjacency: &mut FaceAdjacency,
@@ -55,20 +55,13 @@ pub(crate) fn orient_and_measure(
         let report = turn_closed_components_outwards(mesh, adjacency, Some(&mut geometry));
         return (report, geometry);
     }
-    let mut geometry = FaceGeometry::zeroed(mesh.triangle_count());
-    let report = propagate_winding(mesh, adjacency, Some(&mut geometry));
-    debug_assert!(geometry == FaceGeometry::new(mesh));
-    (report, geometry)
+    // Here the corners are read in breadth-first order: a sequential pass is faster.
+    let report = propagate_winding(mesh, adjacency);
+    (report, FaceGeometry::new(mesh))
 }
 
-/// The general case: breadth-first propagation of the winding over manifold edges. With
-/// `geometry` ([`FaceGeometry::zeroed`]), also computes the face geometry in the final
-/// winding, in the passes that read the corners anyway.
-fn propagate_winding(
-    mesh: &mut TriMesh,
-    adjacency: &mut FaceAdjacency,
-    mut geometry: Option<&mut FaceGeometry>,
-) -> OrientationReport {
+/// The general case: breadth-first propagation of the winding over manifold edges.
+fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> OrientationReport {
     const UNSET: u8 = 0;
     const KEEP: u8 = 1;
     const FLIP: u8 = 2;
@@ -76,8 +69,6 @@ fn propagate_winding(
     let mut state = vec![UNSET; n];
     let mut queue: Vec<u32> = Vec::with_capacity(n);
     let mut report = OrientationReport::default();
-    // With geometry: what a face's reversal needs besides its corners (1 byte a face).
-    let mut reversed_zeros = vec![0u8; if geometry.is_some() { n } else { 0 }];
 
     for seed in 0..n {
         if state[seed] != UNSET {
@@ -123,12 +114,6 @@ fn propagate_winding(
             let volume: f64 = part
                 .iter()
                 .map(|&f| {
-                    measure(
-                        geometry.as_deref_mut(),
-                        &mut reversed_zeros,
-                        mesh,
-                        f as usize,
-                    );
                     let v = signed_volume6(mesh, f as usize, &origin);
                     if state[f as usize] == FLIP {
                         -v
@@ -141,12 +126,6 @@ fn propagate_winding(
         } else {
             let (mut kept, mut flipped) = (0.0, 0.0);
             for &f in part {
-                measure(
-                    geometry.as_deref_mut(),
-                    &mut reversed_zeros,
-                    mesh,
-                    f as usize,
-                );
                 let area = mesh.scaled_normal(f as usize).norm();
                 if state[f as usize] == FLIP {
                     flipped += area;
@@ -161,9 +140,6 @@ fn propagate_winding(
             if (state[f] == FLIP) != flip_whole_part {
                 mesh.flip(f);
                 adjacency.flip(f);
-                if let Some(geometry) = geometry.as_deref_mut() {
-                    geometry.reverse(f, reversed_zeros[f], mesh.corners(f));
-                }
                 report.flipped_faces += 1;
             }
         }
@@ -171,21 +147,6 @@ fn propagate_winding(
     debug_assert_eq!(queue.len(), n);
     adjacency.set_winding_conflicts(report.inconsistent_edges);
     report
-}
-
-/// With `geometry`, computes face `f`'s geometry and what its reversal needs.
-#[inline]
-fn measure(
-    geometry: Option<&mut FaceGeometry>,
-    reversed_zeros: &mut [u8],
-    mesh: &TriMesh,
-    f: usize,
-) {
-    if let Some(geometry) = geometry {
-        let corners = mesh.corners(f);
-        geometry.set(f, corners);
-        reversed_zeros[f] = face_geometry::reversed_zeros(corners);
-    }
 }
 
 /// Signed volume of tetrahedra from `origin` over a face (positive for an outward face of a
@@ -214,11 +175,6 @@ fn turn_closed_components_outwards(
     let mut closed = vec![true; count];
     // Relative to a vertex of each component, for accuracy far from the origin.
     let mut origin = vec![None; count];
-    // With geometry: what a face's reversal needs besides its corners (1 byte a face).
-    let mut reversed_zeros: Vec<u8> = Vec::new();
-    if geometry.is_some() {
-        reversed_zeros.reserve_exact(mesh.triangle_count());
-    }
     for f in 0..mesh.triangle_count() {
         let c = adjacency.component_of()[f] as usize;
         let corners = mesh.corners(f);
@@ -227,7 +183,6 @@ fn turn_closed_components_outwards(
         closed[c] &= !adjacency.neighbours(f).contains(&super::NO_FACE);
         if let Some(geometry) = geometry.as_deref_mut() {
             geometry.push(corners);
-            reversed_zeros.push(face_geometry::reversed_zeros(corners));
         }
     }
     let mut report = OrientationReport {
@@ -239,9 +194,8 @@ fn turn_closed_components_outwards(
         if closed[c] && volume[c] < 0.0 {
             mesh.flip(f);
             adjacency.flip(f);
-            if let (Some(geometry), Some(&zeros)) = (geometry.as_deref_mut(), reversed_zeros.get(f))
-            {
-                geometry.reverse(f, zeros, mesh.corners(f));
+            if let Some(geometry) = geometry.as_deref_mut() {
+                geometry.reverse(f, mesh.corners(f));
             }
             report.flipped_faces += 1;
         }
