@@ -72,42 +72,6 @@ impl FaceGeometry {
         self.centroids.push(centroid);
     }
 
-    /// Updates face `f` after its winding was reversed by swapping corners 1 and 2, to
-    /// exactly what [`FaceGeometry::new`] computes from `corners`, the new ones.
-    ///
-    /// The new cross product `(c − a) × (b − a)` has components `p − q` where the old one
-    /// had `q − p`: exactly its negation where it is not zero (the sign of a zero depends on
-    /// `p` and `q`, so it is taken from the new product). Its norm (the area) and the
-    /// squared edge lengths (the degenerate test) are the same, so the unit normal is the
-    /// old one negated component by component, a zero component being the new product's
-    /// zero divided by the same area, and a degenerate normal stays zero; the square root,
-    /// the edge lengths and the divisions are not redone. The centroid, whose rounding
-    /// depends on the order of its sum, is summed again.
-    #[inline]
-    pub(crate) fn reverse(&mut self, f: usize, corners: [Point3; 3]) {
-        let [a, b, c] = corners;
-        let normal = self.normals[f];
-        if normal != Vector3::zeros() {
-            let scaled = (b - a).cross(&(c - a));
-            self.normals[f] = Vector3::from_fn(|k, _| {
-                if scaled[k] == 0.0 {
-                    // ±0 divided by a positive area keeps its sign.
-                    scaled[k]
-                } else {
-                    -normal[k]
-                }
-            });
-        }
-        self.centroids[f] = centroid(a, b, c);
-        debug_assert_eq!(
-            (self.normals[f].map(Real::to_bits), self.areas[f].to_bits()),
-            {
-                let (n, area, _) = measure(corners);
-                (n.map(Real::to_bits), area.to_bits())
-            }
-        );
-    }
-
     /// Number of faces.
     pub fn face_count(&self) -> usize {
         self.normals.len()

@@ -8,12 +8,11 @@
 //! A non-orientable patch (a Möbius strip) keeps one edge inconsistent; those are counted.
 //! Fast path: when the adjacency found no wrongly wound and no non-manifold edge, the parts
 //! are the components and only closed ones with negative volume are turned (one pass).
-//! For the import, the fast path computes the face geometry along, in the pass that reads
-//! the corners (see `orient_and_measure`).
+//! For the import, the fast path measures the faces (normals, areas, centroids) in the pass
+//! that turns them (see `orient_and_measure`).
 //! Cost: linear in faces; 5 bytes a face of scratch.
 
 use super::{FaceAdjacency, FaceGeometry, TriMesh};
-use crate::math::Point3;
 
 /// What [`orient_consistently`] changed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -43,9 +42,7 @@ pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) ->
 }
 
 /// [`orient_consistently`] followed by [`FaceGeometry::new`] in the new winding, with the
-/// same results; on the fast path the geometry is computed in the pass that sums the
-/// volumes, and a face turned afterwards is updated (exactly, see
-/// [`FaceGeometry::reverse`]) rather than measured again.
+/// same results; on the fast path each face is measured in the pass that turns it.
 pub(crate) fn orient_and_measure(
     mesh: &mut TriMesh,
     adjacency: &mut FaceAdjacency,
@@ -153,18 +150,13 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
 /// closed surface around `origin`), times 6.
 #[inline]
 fn signed_volume6(mesh: &TriMesh, f: usize, origin: &nalgebra::Vector3<f64>) -> f64 {
-    corner_volume6(mesh.corners(f), origin)
-}
-
-/// [`signed_volume6`] of a face given by its corners.
-#[inline]
-fn corner_volume6(corners: [Point3; 3], origin: &nalgebra::Vector3<f64>) -> f64 {
-    let [a, b, c] = corners.map(|p| p.coords - origin);
+    let [a, b, c] = mesh.corners(f).map(|p| p.coords - origin);
     a.dot(&b.cross(&c))
 }
 
 /// The fast path: windings already agree, so each component is one orientable part. With
-/// `geometry` (empty), also computes the face geometry in the final winding.
+/// `geometry` (empty), also measures every face in its final winding, in the pass that
+/// turns the faces of inside-out components.
 fn turn_closed_components_outwards(
     mesh: &mut TriMesh,
     adjacency: &mut FaceAdjacency,
@@ -177,13 +169,9 @@ fn turn_closed_components_outwards(
     let mut origin = vec![None; count];
     for f in 0..mesh.triangle_count() {
         let c = adjacency.component_of()[f] as usize;
-        let corners = mesh.corners(f);
-        let o = *origin[c].get_or_insert(corners[0].coords);
-        volume[c] += corner_volume6(corners, &o);
+        let o = *origin[c].get_or_insert(mesh.corners(f)[0].coords);
+        volume[c] += signed_volume6(mesh, f, &o);
         closed[c] &= !adjacency.neighbours(f).contains(&super::NO_FACE);
-        if let Some(geometry) = geometry.as_deref_mut() {
-            geometry.push(corners);
-        }
     }
     let mut report = OrientationReport {
         orientable_parts: count,
@@ -194,10 +182,10 @@ fn turn_closed_components_outwards(
         if closed[c] && volume[c] < 0.0 {
             mesh.flip(f);
             adjacency.flip(f);
-            if let Some(geometry) = geometry.as_deref_mut() {
-                geometry.reverse(f, mesh.corners(f));
-            }
             report.flipped_faces += 1;
+        }
+        if let Some(geometry) = geometry.as_deref_mut() {
+            geometry.push(mesh.corners(f));
         }
     }
     report
