@@ -10,7 +10,8 @@
 //   - mesh.segment with the paper's parameters (α 0.35 rad, θmax 1 rad, ε 10 %)
 //   - three.js STLLoader.parse of the same bytes (a plain, unwelded parse) for comparison
 //   - WebAssembly memory after import + segmentation, per triangle
-// Times are medians of several runs after a warm-up.
+// Times are medians of several runs after a warm-up. `BENCH_STAGES=1 npm run bench` also
+// prints the median time of each stage, from the progress reports (see stageTimes).
 // Spray cases: a generated cylindrical skin panel; Mesh.fromStl as the yardstick, one
 // planSpray (plan + simulate at one spacing) and one spacing search (maxError 0.2), with the
 // evaluation samples per second of the single plan. `npm run bench -- spray` runs only those.
@@ -27,8 +28,8 @@ import { dirname, join } from 'node:path';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_000],
-  ['fuselage', 2_000_000], ['grid', 1_000_000], ['fan', 80_000], ['fan', 1_000_000],
-  ['book', 50_000]];
+  ['fuselage', 2_000_000], ['fuselage', 4_000_000], ['grid', 1_000_000], ['fan', 80_000],
+  ['fan', 1_000_000], ['book', 50_000]];
 const SHAPES = ['fuselage', 'grid', 'fan', 'book'];
 const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000").split(",").map(Number);
 const GEODESIC_CASES = (process.env.GEODESIC_CASES ?? "cylinder:200000,cylinder:2000000,wave:500000")
@@ -266,7 +267,7 @@ async function runOne(shape, target) {
   const bytes = GENERATORS[shape](target);
   const triangles = (bytes.length - 84) / 50;
   const params = { angleThreshold: 0.35, thetaMax: 1, minAreaRatio: 0.1 };
-  const runs = triangles > 1_500_000 ? 5 : 9;
+  const runs = triangles > 3_000_000 ? 3 : triangles > 1_500_000 ? 5 : 9;
 
   // First run: memory of one import + segmentation from a fresh module.
   let mesh = Mesh.fromStl(bytes);
@@ -293,8 +294,46 @@ async function runOne(shape, target) {
     seg.free(); mesh.free();
   }
   const [p, s, l] = [median(parse), median(segment), median(three)];
+  const stages = process.env.BENCH_STAGES ? stageTimes(Mesh, bytes, params, runs) : undefined;
   return { shape, triangles, fromStl: p, segment: s, stlLoader: l, ratio: (p + s) / l,
-    bytesPerTriangle: memory / triangles, memoryMiB: memory / 2 ** 20, patches };
+    bytesPerTriangle: memory / triangles, memoryMiB: memory / 2 ** 20, patches, stages };
+}
+
+/**
+ * Medians over `runs` runs of the time between the stage changes the core reports through
+ * onProgress (`BENCH_STAGES=1 npm run bench`): copy-in, parse (read + weld), adjacency, orient,
+ * geometry; regions, seeds (seed order: from the first `planarise` report at 0 to the next
+ * one), planarise, patches. The first report of a stage ends the one before.
+ */
+function stageTimes(Mesh, bytes, params, runs) {
+  const all = {};
+  for (let r = 0; r < runs; r++) {
+    globalThis.gc?.();
+    const marks = [];
+    let last;
+    const onProgress = (stage, fraction) => {
+      const name = stage === 'planarise' && fraction === 0 && last === 'planarise' ? 'planarise*' : stage;
+      if (name !== last || name === 'planarise*') marks.push([name, performance.now()]);
+      last = stage;
+    };
+    const start = performance.now();
+    const mesh = Mesh.fromStl(bytes, onProgress);
+    marks.push(['end', performance.now()]);
+    const seg = mesh.segment(params, onProgress);
+    marks.push(['end', performance.now()]);
+    seg.free(); mesh.free();
+    marks.unshift(['start', start]);
+    for (let i = 0; i < marks.length - 1; i++) {
+      if (marks[i][0] === 'end') continue;
+      let name = marks[i][0];
+      // From the first `planarise` report to the second is the seed order.
+      if (name === 'planarise' && marks[i + 1][0] === 'planarise*') name = 'seeds';
+      if (name === 'planarise*') name = 'planarise';
+      (all[name] ??= []).push(marks[i + 1][1] - marks[i][1]);
+    }
+  }
+  // `start` is the copy of the bytes into WebAssembly memory, before the first report.
+  return Object.fromEntries(Object.entries(all).map(([k, v]) => [k === 'start' ? 'copy-in' : k, median(v)]));
 }
 
 const isMain = process.argv[1] && fileURLToPath(import.meta.url) === process.argv[1];
@@ -334,6 +373,9 @@ if (geodesicArg > 0) {
       `  ${(1000 * r.fromStl / r.triangles).toFixed(3).padStart(14)}  ${r.segment.toFixed(1).padStart(10)}` +
       `  ${r.stlLoader.toFixed(1).padStart(12)}  ${r.ratio.toFixed(2).padStart(27)}` +
       `  ${r.memoryMiB.toFixed(1).padStart(8)}  ${r.bytesPerTriangle.toFixed(1).padStart(14)}  ${String(r.patches).padStart(7)}`);
+    if (r.stages) {
+      console.log(`           stages ms: ${Object.entries(r.stages).map(([k, v]) => `${k} ${v.toFixed(1)}`).join(', ')}`);
+    }
   }
   if ((!chosen.length && !only) || args.includes('spray')) {
     console.log('\nspray on a curved panel (2 × 2.5 m, page defaults; search with maxError 0.2)');

@@ -11,6 +11,18 @@ pub type Vector3 = nalgebra::Vector3<Real>;
 /// its normal is then set by rounding of the file's `f32` coordinates, not by the shape.
 pub const DEGENERATE_HEIGHT_RATIO: Real = 1e-7;
 
+/// The larger of `a` and `b`, for numbers known not to be NaN and not to be a `+0`/`−0`
+/// pair: then exactly `a.max(b)`, which on WebAssembly is a call (to keep `max`'s NaN rule)
+/// rather than one comparison.
+#[inline]
+pub fn larger(a: Real, b: Real) -> Real {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
 /// Angle in radians between two vectors, accurate near 0 and π (atan2 of |a×b| and a·b).
 ///
 /// Uses `libm` so that the result is bit-identical natively and in WebAssembly.

@@ -5,8 +5,8 @@ mod common;
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-use common::{binary_stl, check_adjacency, import};
-use skinpath::mesh::{import_stl, read_stl, write_stl, StlError, StlFormat};
+use common::{binary_stl, check_adjacency, import, Tri};
+use skinpath::mesh::{import_stl, read_stl, write_stl, FaceGeometry, StlError, StlFormat};
 
 fn error(bytes: &[u8]) -> String {
     match import_stl(bytes, &mut |_, _| {}) {
@@ -545,4 +545,118 @@ fn adjacency_matches_a_brute_force_edge_table_at_any_valence() {
             "{faces} faces on {vertices} vertices"
         );
     }
+}
+
+/// Welding numbers vertices in order of first appearance, even when a corner comes back
+/// long after it was first seen (beyond any cache of recent corners): checked against a
+/// plain map from bit pattern to id, built here.
+#[test]
+fn welding_numbers_vertices_in_order_of_first_appearance() {
+    // A closed sphere whose triangles are listed in a scrambled order (a fixed
+    // multiplicative permutation), so most corners recur far apart; a few -0.0 too.
+    let mut tris = common::sphere(1.0, 160, 120);
+    let n = tris.len();
+    let step = (0..)
+        .map(|k| 7919 + 2 * k)
+        .find(|s| gcd(*s, n) == 1)
+        .unwrap();
+    tris = (0..n).map(|i| tris[i * step % n]).collect();
+    for t in tris.iter_mut().step_by(7) {
+        for c in t.iter_mut().flatten() {
+            if *c == 0.0 {
+                *c = -0.0;
+            }
+        }
+    }
+    let import = read_stl(&binary_stl(&tris)).unwrap();
+    let mut ids = std::collections::HashMap::new();
+    let mut positions = Vec::new();
+    let expected: Vec<[u32; 3]> = tris
+        .iter()
+        .map(|t| {
+            t.map(|c| {
+                let key = c.map(|x| (x + 0.0).to_bits());
+                *ids.entry(key).or_insert_with(|| {
+                    positions.push(c.map(|x| (x + 0.0) as f64));
+                    positions.len() as u32 - 1
+                })
+            })
+        })
+        .collect();
+    assert!(
+        positions.len() > 16_384,
+        "enough vertices to leave any small cache"
+    );
+    assert_eq!(import.mesh.triangles(), expected.as_slice());
+    let got: Vec<[f64; 3]> = import
+        .mesh
+        .positions()
+        .iter()
+        .map(|p| [p.x, p.y, p.z])
+        .collect();
+    assert_eq!(got, positions);
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+/// The face geometry the import computes along with the winding (and patches for the faces
+/// it turns) is bit for bit what `FaceGeometry::new` computes on the final mesh: zero
+/// signs of normal components included, on both orientation paths.
+#[test]
+fn imported_geometry_is_bit_identical_to_a_fresh_computation() {
+    let bits = |g: &FaceGeometry| -> Vec<u64> {
+        let n = g.normals().iter().flat_map(|v| [v.x, v.y, v.z]);
+        let c = g.centroids().iter().flat_map(|p| [p.x, p.y, p.z]);
+        n.chain(g.areas().iter().copied())
+            .chain(c)
+            .map(f64::to_bits)
+            .collect()
+    };
+    // Inside out (every face turned, fast path), flipped faces (propagation), a degenerate
+    // face, an axis-aligned box (many exact zeros) and an inside-out sphere.
+    let inside_out_sphere: Vec<Tri> = common::sphere(2.0, 24, 16)
+        .into_iter()
+        .map(|[a, b, c]| [a, c, b])
+        .collect();
+    let sphere_bytes = binary_stl(&inside_out_sphere);
+    // A tetrahedron with faces whose cross products have components `q − p` with `p = q`
+    // (a +0 either way), in both windings: one of the two is turned.
+    let [a, b, c, d] = [
+        [0.0, 0.0, 0.0],
+        [0.0, 1.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [1.0, 0.0, -1.0],
+    ];
+    let tetra: Vec<Tri> = vec![[a, c, b], [a, b, d], [b, c, d], [a, d, c]];
+    let tetra_bytes = binary_stl(&tetra);
+    let reversed: Vec<Tri> = tetra.iter().map(|&[a, b, c]| [a, c, b]).collect();
+    let reversed_bytes = binary_stl(&reversed);
+    for bytes in [
+        fixture!("inside_out_cube.stl"),
+        fixture!("flipped_faces.stl"),
+        fixture!("degenerate_triangle.stl"),
+        fixture!("cube_binary.stl"),
+        &sphere_bytes[..],
+        &tetra_bytes[..],
+        &reversed_bytes[..],
+    ] {
+        let m = import(bytes);
+        assert_eq!(bits(&m.geometry), bits(&FaceGeometry::new(&m.mesh)));
+        assert_eq!(
+            m.geometry.degenerate_count(),
+            FaceGeometry::new(&m.mesh).degenerate_count()
+        );
+    }
+    assert_eq!(
+        import(&sphere_bytes).report.flipped_triangles,
+        inside_out_sphere.len()
+    );
+    let turned = [&tetra_bytes, &reversed_bytes].map(|b| import(b).report.flipped_triangles);
+    assert_eq!(turned.iter().sum::<usize>(), 4);
 }

@@ -1,16 +1,16 @@
 //! Edge adjacency between faces, with boundary, non-manifold and wrongly wound edges counted.
 //!
-//! No paper: faces are grouped by vertex (a compressed vertex → outgoing-edge table holding
-//! `(face, corner, next vertex)`), and face edge `a → b` finds the faces with `b → a` among
-//! the edges leaving `b` (consistently wound neighbours) and those with `a → b` among the
-//! edges leaving `a` (neighbours wound the other way). An edge with one other face links the
-//! two; with none it is a boundary edge; with two or more it is non-manifold and links
-//! nobody, because a surface cannot be processed across such an edge as one sheet. Faces
-//! that repeat a vertex (collapsed to a line or point) link nobody.
-//! The edges leaving a vertex of high valence (more than [`SCAN_LIMIT`], as at the centre
-//! of a disc tessellated as a fan, or on an edge shared by thousands of faces) are sorted
-//! by target vertex and searched by bisection; shorter runs, almost all of them, are
-//! scanned. A non-manifold edge is resolved once, for all its faces.
+//! No paper: every face edge is filed under its smaller vertex `u`, in one of two runs by
+//! direction (`u → w` or `w → u`), with the other vertex `w` and its `(face, corner)`
+//! (a counting sort). Then, vertex by vertex, each run is sorted by `w`, and the entries
+//! with the same `w` in the two runs are all the faces on edge `u – w`, those in opposite
+//! runs wound consistently, those in the same run the other way round. An edge with two
+//! faces links them; with one it is a boundary edge; with three or more it is non-manifold
+//! and links nobody, because a surface cannot be processed across such an edge as one
+//! sheet. Faces that repeat a vertex (collapsed to a line or point) link nobody.
+//! Every edge is resolved once, in a sequential walk over the runs; a vertex of high
+//! valence (the centre of a disc tessellated as a fan, an edge shared by thousands of
+//! faces) costs a sort of its runs, never a scan per face.
 //! Cost: O(n log n) whatever the valence (O(n) at bounded valence); about 30 bytes a face
 //! of scratch, read in contiguous runs per vertex.
 
@@ -55,30 +55,12 @@ impl UnionFind {
     }
 }
 
-/// An edge leaving a vertex: the face and corner it starts at (packed as `face·4 + corner`)
-/// and the vertex it goes to.
+/// A face edge filed under its smaller vertex: the face and corner it starts at (packed as
+/// `face·4 + corner`) and its larger vertex.
 #[derive(Clone, Copy, Default)]
 struct OutEdge {
     face_corner: u32,
     to: u32,
-}
-
-/// Out-edge runs longer than this are sorted and bisected rather than scanned (no paper:
-/// below it a scan of a cache line or two beats a search; typical valence is 6).
-const SCAN_LIMIT: usize = 16;
-
-/// The edges in `run` (edges leaving one vertex) that go to `to`: a scan of short runs, a
-/// bisection of long ones (sorted by target).
-#[inline]
-fn edges_to(run: &[OutEdge], to: u32) -> impl Iterator<Item = &OutEdge> {
-    let run = if run.len() <= SCAN_LIMIT {
-        run
-    } else {
-        let start = run.partition_point(|e| e.to < to);
-        let len = run[start..].partition_point(|e| e.to == to);
-        &run[start..start + len]
-    };
-    run.iter().filter(move |e| e.to == to)
 }
 
 /// Most faces a mesh may have here: face ids are packed with a 2-bit corner into a `u32`.
@@ -100,87 +82,104 @@ impl FaceAdjacency {
         );
         let collapsed = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
 
-        // Vertex → outgoing edges, as offsets into one array (counting sort by vertex).
+        // Each face edge is filed under its smaller vertex `u`, in run `2u` when it leaves
+        // `u` and `2u + 1` when it arrives there, with its other vertex (counting sort), so
+        // the faces on an edge are found in one place.
         let vertex_count = mesh.vertex_count();
-        let mut offsets = vec![0u32; vertex_count + 1];
+        let run_of = |a: u32, b: u32| -> usize {
+            if a < b {
+                2 * a as usize
+            } else {
+                2 * b as usize + 1
+            }
+        };
+        let mut offsets = vec![0u32; 2 * vertex_count + 1];
         for t in triangles.iter().filter(|t| !collapsed(t)) {
-            for &v in t {
-                offsets[v as usize + 1] += 1;
+            for k in 0..3 {
+                offsets[run_of(t[k], t[(k + 1) % 3]) + 1] += 1;
             }
         }
-        for v in 0..vertex_count {
-            offsets[v + 1] += offsets[v];
+        for r in 0..2 * vertex_count {
+            offsets[r + 1] += offsets[r];
         }
-        let mut out = vec![OutEdge::default(); offsets[vertex_count] as usize];
+        let mut out = vec![OutEdge::default(); offsets[2 * vertex_count] as usize];
         let mut fill = offsets.clone();
         for (f, t) in triangles.iter().enumerate() {
             if collapsed(t) {
                 continue;
             }
             for k in 0..3 {
-                let v = t[k] as usize;
-                out[fill[v] as usize] = OutEdge {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let r = run_of(a, b);
+                out[fill[r] as usize] = OutEdge {
                     face_corner: (f as u32) << 2 | k as u32,
-                    to: t[(k + 1) % 3],
+                    to: a.max(b),
                 };
-                fill[v] += 1;
+                fill[r] += 1;
             }
         }
         drop(fill);
-        for v in 0..vertex_count {
-            let run = &mut out[offsets[v] as usize..offsets[v + 1] as usize];
-            if run.len() > SCAN_LIMIT {
-                // (target, face·4 + corner) is unique: the order is deterministic.
-                run.sort_unstable_by_key(|e| (e.to, e.face_corner));
-            }
-        }
-        let leaving = |v: u32| &out[offsets[v as usize] as usize..offsets[v as usize + 1] as usize];
-
-        const UNSEEN: u32 = u32::MAX - 1;
-        let mut neighbours = vec![[UNSEEN; 3]; n];
+        let mut neighbours = vec![[NO_FACE; 3]; n];
         let mut union_find = UnionFind((0..n as u32).collect());
         let (mut boundary_edges, mut non_manifold_edges, mut winding_conflicts) = (0, 0, 0);
-        // (face·4 + corner, wound the same way as f) of every other face on the edge.
-        let mut sharers: Vec<(u32, bool)> = Vec::with_capacity(8);
-        for f in 0..n {
-            if f % super::PROGRESS_EVERY == 0 {
-                progress("adjacency", f as f64 / n as f64);
+        // Vertex by vertex, the faces on each edge `u – w` are the entries with other vertex
+        // `w` in the two runs of `u`: sorted by `(w, face·4 + corner)` (a unique key, so the
+        // order is deterministic), equal `w` are neighbours. Every edge is resolved once, so
+        // the result does not depend on the order of the edges (the union–find's roots are
+        // the smallest faces whatever the order of the unions).
+        for u in 0..vertex_count {
+            if u % super::PROGRESS_EVERY == 0 {
+                progress("adjacency", u as f64 / vertex_count as f64);
             }
-            let t = triangles[f];
-            if collapsed(&t) {
-                neighbours[f] = [NO_FACE; 3];
-                continue;
-            }
-            for k in 0..3 {
-                if neighbours[f][k] != UNSEEN {
-                    continue;
+            let (o0, o1, o2) = (
+                offsets[2 * u] as usize,
+                offsets[2 * u + 1] as usize,
+                offsets[2 * u + 2] as usize,
+            );
+            let key = |e: &OutEdge| (e.to, e.face_corner);
+            out[o0..o1].sort_unstable_by_key(key);
+            out[o1..o2].sort_unstable_by_key(key);
+            let (leaving, arriving) = out[o0..o2].split_at(o1 - o0);
+            let (mut i, mut j) = (0, 0);
+            // Ends: each pass consumes at least one entry of the two runs.
+            while i < leaving.len() || j < arriving.len() {
+                let w = match (leaving.get(i), arriving.get(j)) {
+                    (Some(a), Some(b)) => a.to.min(b.to),
+                    (Some(a), None) => a.to,
+                    (None, Some(b)) => b.to,
+                    (None, None) => break,
+                };
+                let i0 = i;
+                while i < leaving.len() && leaving[i].to == w {
+                    i += 1;
                 }
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                sharers.clear();
-                sharers.extend(edges_to(leaving(b), a).map(|e| (e.face_corner, false)));
-                sharers.extend(
-                    edges_to(leaving(a), b)
-                        .filter(|e| (e.face_corner >> 2) as usize != f)
-                        .map(|e| (e.face_corner, true)),
-                );
-                match sharers.as_slice() {
-                    [] => {
-                        neighbours[f][k] = NO_FACE;
-                        boundary_edges += 1;
-                    }
-                    &[(g, same_direction)] => {
-                        let (g, slot) = (g >> 2, (g & 3) as usize);
-                        neighbours[f][k] = g;
-                        neighbours[g as usize][slot] = f as u32;
-                        union_find.union(f as u32, g);
-                        winding_conflicts += usize::from(same_direction);
+                let j0 = j;
+                while j < arriving.len() && arriving[j].to == w {
+                    j += 1;
+                }
+                let (forward, backward) = (&leaving[i0..i], &arriving[j0..j]);
+                match forward.len() + backward.len() {
+                    1 => boundary_edges += 1,
+                    2 => {
+                        let nth = |x: usize| match forward.get(x) {
+                            Some(e) => e.face_corner,
+                            None => backward[x - forward.len()].face_corner,
+                        };
+                        let (f, g) = (nth(0), nth(1));
+                        neighbours[(f >> 2) as usize][(f & 3) as usize] = g >> 2;
+                        neighbours[(g >> 2) as usize][(g & 3) as usize] = f >> 2;
+                        union_find.union(f >> 2, g >> 2);
+                        // Both on one side: they traverse the edge the same way.
+                        winding_conflicts += usize::from(backward.len() != 1);
                     }
                     _ => {
-                        // Every sharer will meet this edge; mark them all now, count it once.
-                        neighbours[f][k] = NO_FACE;
-                        for &(g, _) in &sharers {
-                            neighbours[(g >> 2) as usize][(g & 3) as usize] = NO_FACE;
-                            union_find.union(f as u32, g >> 2);
+                        // Three or more faces: they link nobody (their slots stay NO_FACE)
+                        // but share a component.
+                        let mut faces = forward.iter().chain(backward).map(|e| e.face_corner >> 2);
+                        if let Some(hub) = faces.next() {
+                            for g in faces {
+                                union_find.union(hub, g);
+                            }
                         }
                         non_manifold_edges += 1;
                     }

@@ -1,7 +1,33 @@
 //! Per-face unit normals, areas and centroids, computed once from a [`TriMesh`].
 
 use super::TriMesh;
-use crate::math::{Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
+use crate::math::{larger, Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
+
+/// Unit normal (zero when degenerate), area and centroid of the face with corners
+/// `[a, b, c]` in that winding.
+#[inline]
+fn measure([a, b, c]: [Point3; 3]) -> (Vector3, Real, Point3) {
+    let scaled = (b - a).cross(&(c - a));
+    let twice_area = scaled.norm();
+    // Squared lengths are never NaN or −0, so `larger` gives exactly `f64::max`.
+    let longest_sq = larger(
+        larger((b - a).norm_squared(), (c - b).norm_squared()),
+        (a - c).norm_squared(),
+    );
+    // height = 2·area / longest edge, so height < r·longest ⇔ 2·area < r·longest².
+    let normal = if twice_area > DEGENERATE_HEIGHT_RATIO * longest_sq {
+        scaled / twice_area
+    } else {
+        Vector3::zeros()
+    };
+    (normal, 0.5 * twice_area, centroid(a, b, c))
+}
+
+/// Mean of three corners, summed in the order given.
+#[inline]
+fn centroid(a: Point3, b: Point3, c: Point3) -> Point3 {
+    Point3::from((a.coords + b.coords + c.coords) / 3.0)
+}
 
 /// Unit normal, area and centroid of every face, indexed by face id.
 ///
@@ -19,34 +45,31 @@ impl FaceGeometry {
     /// Computes the geometry of every face of `mesh`, in its current winding.
     pub fn new(mesh: &TriMesh) -> Self {
         let n = mesh.triangle_count();
-        let mut geometry = FaceGeometry {
+        let mut geometry = Self::with_capacity(n);
+        for f in 0..n {
+            geometry.push(mesh.corners(f));
+        }
+        geometry
+    }
+
+    /// Room for `n` faces, none computed yet.
+    pub(crate) fn with_capacity(n: usize) -> Self {
+        FaceGeometry {
             normals: Vec::with_capacity(n),
             areas: Vec::with_capacity(n),
             centroids: Vec::with_capacity(n),
             degenerate: 0,
-        };
-        for f in 0..n {
-            let [a, b, c] = mesh.corners(f);
-            let scaled = (b - a).cross(&(c - a));
-            let twice_area = scaled.norm();
-            let longest_sq = (b - a)
-                .norm_squared()
-                .max((c - b).norm_squared())
-                .max((a - c).norm_squared());
-            // height = 2·area / longest edge, so height < r·longest ⇔ 2·area < r·longest².
-            let normal = if twice_area > DEGENERATE_HEIGHT_RATIO * longest_sq {
-                scaled / twice_area
-            } else {
-                geometry.degenerate += 1;
-                Vector3::zeros()
-            };
-            geometry.normals.push(normal);
-            geometry.areas.push(0.5 * twice_area);
-            geometry
-                .centroids
-                .push(Point3::from((a.coords + b.coords + c.coords) / 3.0));
         }
-        geometry
+    }
+
+    /// Appends the face with corners `[a, b, c]` (in its winding).
+    #[inline]
+    pub(crate) fn push(&mut self, corners: [Point3; 3]) {
+        let (normal, area, centroid) = measure(corners);
+        self.degenerate += usize::from(normal == Vector3::zeros());
+        self.normals.push(normal);
+        self.areas.push(area);
+        self.centroids.push(centroid);
     }
 
     /// Number of faces.

@@ -1,8 +1,9 @@
 //! The whole import: STL bytes → welded, consistently wound mesh with its adjacency,
 //! per-face geometry and a report of what was found.
 
+use super::orientation::orient_and_measure;
 use super::stl::read_stl_with_progress;
-use super::{orient_consistently, FaceAdjacency, FaceGeometry, StlError, StlFormat, TriMesh};
+use super::{FaceAdjacency, FaceGeometry, StlError, StlFormat, StlImport, TriMesh};
 use crate::math::Real;
 
 /// What a user should know about an imported mesh (serialised for JavaScript in camelCase).
@@ -59,13 +60,22 @@ pub fn import_stl(
     bytes: &[u8],
     progress: &mut dyn FnMut(&str, f64),
 ) -> Result<ImportedMesh, StlError> {
-    let import = read_stl_with_progress(bytes, progress)?;
+    prepare_mesh(read_stl_with_progress(bytes, progress)?, progress)
+}
+
+/// The second half of [`import_stl`], for a mesh already read (so that the caller can free
+/// the file's bytes first): adjacency, winding, geometry and report, with the stages
+/// `adjacency`, `orient`, `geometry`.
+pub fn prepare_mesh(
+    import: StlImport,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<ImportedMesh, StlError> {
     let mut mesh = import.mesh;
     let mut adjacency = FaceAdjacency::with_progress(&mesh, progress);
     progress("orient", 0.0);
-    let orientation = orient_consistently(&mut mesh, &mut adjacency);
+    // The geometry is computed with the winding (in the same pass where it can be).
+    let (orientation, geometry) = orient_and_measure(&mut mesh, &mut adjacency);
     progress("geometry", 0.0);
-    let geometry = FaceGeometry::new(&mesh);
     // Degenerate as the report counts it (FaceGeometry, DEGENERATE_HEIGHT_RATIO): with no
     // usable normal anywhere, every later stage would run on noise.
     if geometry.degenerate_count() == mesh.triangle_count() {

@@ -15,7 +15,7 @@ const PROGRESS_EVERY: usize = 1 << 16;
 
 pub use adjacency::{FaceAdjacency, MAX_FACES, NO_FACE};
 pub use face_geometry::FaceGeometry;
-pub use import::{import_stl, ImportedMesh, MeshReport};
+pub use import::{import_stl, prepare_mesh, ImportedMesh, MeshReport};
 pub use orientation::{orient_consistently, OrientationReport};
 pub use spatial_index::{ClosestPoint, MeshIndex, RayHit};
 pub use stl::{

@@ -260,7 +260,7 @@ fn finish(welder: Welder, info: StlInfo) -> Result<StlImport, StlError> {
     }
     let (positions, triangles) = welder.finish();
     Ok(StlImport {
-        mesh: TriMesh::new(positions, triangles)?,
+        mesh: TriMesh::from_welded(positions, triangles)?,
         info,
     })
 }
@@ -273,9 +273,6 @@ fn read_binary(
     let data_end = BINARY_PREAMBLE + count * BINARY_TRIANGLE_BYTES;
     let mut welder = Welder::with_capacity(count);
     let mut skipped = 0;
-    let f32_at = |chunk: &[u8], at: usize| {
-        f32::from_le_bytes([chunk[at], chunk[at + 1], chunk[at + 2], chunk[at + 3]])
-    };
     for (i, chunk) in bytes[BINARY_PREAMBLE..data_end]
         .chunks_exact(BINARY_TRIANGLE_BYTES)
         .enumerate()
@@ -283,11 +280,20 @@ fn read_binary(
         if i % PROGRESS_EVERY == 0 {
             progress("parse", i as f64 / count as f64);
         }
-        // Bytes 0..12 hold the file's normal, which is ignored.
-        let corners: [[f32; 3]; 3] =
-            std::array::from_fn(|c| std::array::from_fn(|k| f32_at(chunk, 12 + 12 * c + 4 * k)));
-        if corners.iter().flatten().all(|c| c.is_finite()) {
-            welder.add_triangle(&corners);
+        let Ok(record) = <&[u8; BINARY_TRIANGLE_BYTES]>::try_from(chunk) else {
+            continue; // chunks_exact yields whole records only
+        };
+        // Bytes 0..12 hold the file's normal, which is ignored. The corners are read as bit
+        // patterns: a coordinate is finite unless its exponent bits are all ones.
+        let bits: [[u32; 3]; 3] = std::array::from_fn(|c| {
+            std::array::from_fn(|k| {
+                let at = 12 + 12 * c + 4 * k;
+                u32::from_le_bytes([record[at], record[at + 1], record[at + 2], record[at + 3]])
+            })
+        });
+        const EXPONENT: u32 = 0x7f80_0000;
+        if bits.iter().flatten().all(|&b| b & EXPONENT != EXPONENT) {
+            welder.add_triangle_bits(&bits);
         } else {
             skipped += 1;
         }

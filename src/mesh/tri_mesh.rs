@@ -57,8 +57,24 @@ impl TriMesh {
         Ok(mesh)
     }
 
-    /// Checks the invariants [`TriMesh::new`] establishes (tests and debug builds call it).
-    pub fn validate(&self) -> Result<(), MeshError> {
+    /// [`TriMesh::new`] for arrays built by the welder, whose coordinates are finite (read
+    /// from finite `f32`s) and whose indices name vertices it created: only the counts are
+    /// checked, sparing two passes over the mesh.
+    pub(crate) fn from_welded(
+        positions: Vec<Point3>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Self, MeshError> {
+        let mesh = TriMesh {
+            positions,
+            triangles,
+        };
+        mesh.check_counts()?;
+        debug_assert!(mesh.validate().is_ok());
+        Ok(mesh)
+    }
+
+    /// At least one triangle, and counts that fit 32-bit indices.
+    fn check_counts(&self) -> Result<(), MeshError> {
         if self.triangles.is_empty() {
             return Err(MeshError::NoTriangles);
         }
@@ -67,6 +83,12 @@ impl TriMesh {
                 count: self.positions.len().max(self.triangles.len()),
             });
         }
+        Ok(())
+    }
+
+    /// Checks the invariants [`TriMesh::new`] establishes (tests and debug builds call it).
+    pub fn validate(&self) -> Result<(), MeshError> {
+        self.check_counts()?;
         if let Some(vertex) = self
             .positions
             .iter()

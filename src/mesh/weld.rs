@@ -1,26 +1,38 @@
 //! Welding: merging bit-identical corner positions of a triangle soup into shared vertices.
 //!
-//! No paper: a linear-probing hash table of 16-byte slots, each holding a corner's `f32` bit
-//! pattern and its vertex id, kept at most half full, so a lookup reads one cache line and
-//! never the position array. In front of it a small direct-mapped cache of recent corners
-//! catches the neighbours STL files list close together. Hand-written because hashbrown's
-//! portable probing (WebAssembly has no SSE2) measured about twice as slow here.
+//! No paper. Vertices are numbered in order of first appearance, in two steps:
+//! 1. While triangles arrive, a direct-mapped cache of recently seen corners (256 KiB, stays
+//!    in L2) catches the neighbours STL files list close together; a corner it misses gets
+//!    a provisional vertex at once (appended, nothing looked up). A corner first seen is
+//!    always a miss, so provisional ids are in order of first appearance; a corner evicted
+//!    from the cache and seen again gets a duplicate.
+//! 2. `finish` finds the duplicates cache-locally: the provisional vertices are partitioned
+//!    by hash into buckets of a few thousand (one counting-sort pass), and each bucket is
+//!    welded with a small linear-probing table that stays in L1/L2. A duplicate maps to its
+//!    earliest copy; the survivors keep their relative order, so the numbering is the same
+//!    as a single global table would give. With no duplicate (the common case for files
+//!    written surface by surface) nothing is renumbered.
+//!
+//! This replaces one random access into a table of 32 bytes a vertex per new vertex (the
+//! cost of welding large files) with sequential passes.
 //! `-0.0` and `+0.0` count as the same coordinate.
-//! Cost: expected O(1) per corner; the table (32 bytes a vertex) is dropped by `finish`.
+//! Cost: expected O(1) per corner; scratch of 12 bytes a provisional vertex, 20 more during
+//! `finish`, dropped by it.
 
 use crate::math::Point3;
 
 /// Builds a [`TriMesh`](super::TriMesh)'s arrays from triangles given by corner coordinates.
 #[derive(Debug)]
 pub struct Welder {
-    positions: Vec<Point3>,
+    /// Canonical bit patterns of the provisional vertices, in order of creation.
+    bits: Vec<[u32; 3]>,
+    /// Triangles as provisional vertex ids.
     triangles: Vec<[u32; 3]>,
-    table: Vec<Slot>,
     /// Direct-mapped cache of recently seen corners (256 KiB, stays in L2).
     recent: Vec<Slot>,
 }
 
-/// A welded corner: its canonical bit pattern and vertex id ([`EMPTY_ID`] when unused).
+/// A cached corner: its canonical bit pattern and provisional id ([`EMPTY_ID`] when unused).
 #[derive(Debug, Clone, Copy)]
 struct Slot {
     bits: [u32; 3],
@@ -33,6 +45,11 @@ const EMPTY: Slot = Slot {
     id: EMPTY_ID,
 };
 const RECENT_SLOTS: usize = 1 << 14;
+/// The bit pattern of `-0.0_f32`.
+const NEGATIVE_ZERO: u32 = 0x8000_0000;
+/// Provisional vertices per bucket in `finish`, on average (a bucket and its table stay in
+/// L2; no paper).
+const BUCKET_TARGET: usize = 4096;
 
 /// The bit pattern of a finite corner, with `-0.0` folded into `+0.0`.
 #[inline]
@@ -56,11 +73,9 @@ impl Welder {
     /// A welder sized for about `triangles` triangles (only a hint: it grows as needed).
     pub fn with_capacity(triangles: usize) -> Self {
         // Closed meshes have about half as many vertices as triangles.
-        let vertices = triangles / 2 + 16;
         Welder {
-            positions: Vec::with_capacity(vertices),
+            bits: Vec::with_capacity(triangles / 2 + 16),
             triangles: Vec::with_capacity(triangles),
-            table: vec![EMPTY; (2 * vertices).next_power_of_two()],
             recent: vec![EMPTY; RECENT_SLOTS],
         }
     }
@@ -73,49 +88,32 @@ impl Welder {
         self.triangles.len() - 1
     }
 
+    /// [`Welder::add_triangle`] for corners given as the bit patterns of finite `f32`s.
     #[inline]
-    fn vertex_id(&mut self, bits: [u32; 3]) -> u32 {
-        let hash = hash_bits(&bits);
-        let cached = self.recent[hash as usize & (RECENT_SLOTS - 1)];
-        if cached.id != EMPTY_ID && cached.bits == bits {
-            return cached.id;
-        }
-        let mask = self.table.len() - 1;
-        let mut i = (hash >> 32) as usize & mask;
-        // Ends: the table is kept at most half full, so probing meets an empty slot.
-        let id = loop {
-            let slot = self.table[i];
-            if slot.id == EMPTY_ID {
-                let id = self.positions.len() as u32;
-                self.table[i] = Slot { bits, id };
-                let [x, y, z] = bits.map(|b| f32::from_bits(b) as f64);
-                self.positions.push(Point3::new(x, y, z));
-                if 2 * self.positions.len() > self.table.len() {
-                    self.grow();
-                }
-                break id;
-            }
-            if slot.bits == bits {
-                break slot.id;
-            }
-            i = (i + 1) & mask;
-        };
-        self.recent[hash as usize & (RECENT_SLOTS - 1)] = Slot { bits, id };
-        id
+    pub(crate) fn add_triangle_bits(&mut self, corners: &[[u32; 3]; 3]) {
+        debug_assert!(corners
+            .iter()
+            .flatten()
+            .all(|&b| f32::from_bits(b).is_finite()));
+        // `(c + 0.0)` only changes −0.0 (into +0.0): the same canonical patterns.
+        let ids =
+            corners.map(|c| self.vertex_id(c.map(|b| if b == NEGATIVE_ZERO { 0 } else { b })));
+        self.triangles.push(ids);
     }
 
-    /// Doubles the table and re-inserts every slot.
-    fn grow(&mut self) {
-        let doubled = vec![EMPTY; 2 * self.table.len()];
-        let old = std::mem::replace(&mut self.table, doubled);
-        let mask = self.table.len() - 1;
-        for slot in old.into_iter().filter(|s| s.id != EMPTY_ID) {
-            let mut i = (hash_bits(&slot.bits) >> 32) as usize & mask;
-            while self.table[i].id != EMPTY_ID {
-                i = (i + 1) & mask;
-            }
-            self.table[i] = slot;
+    #[inline]
+    fn vertex_id(&mut self, bits: [u32; 3]) -> u32 {
+        let slot = &mut self.recent[hash_bits(&bits) as usize & (RECENT_SLOTS - 1)];
+        if slot.id != EMPTY_ID && slot.bits == bits {
+            return slot.id;
         }
+        // At most three ids a triangle: below 2^32 for up to MAX_FACES triangles. Beyond that
+        // an id could wrap (still a valid index of `bits`), but such a mesh is refused as
+        // too large (TriMesh::from_welded) after `finish`.
+        let id = self.bits.len() as u32;
+        self.bits.push(bits);
+        *slot = Slot { bits, id };
+        id
     }
 
     /// Number of triangles added so far.
@@ -125,8 +123,106 @@ impl Welder {
 
     /// The welded positions and triangles; drops the tables.
     pub fn finish(self) -> (Vec<Point3>, Vec<[u32; 3]>) {
-        (self.positions, self.triangles)
+        let Welder {
+            bits,
+            mut triangles,
+            recent,
+        } = self;
+        drop(recent);
+        let (canonical, duplicates) = earliest_copies(&bits);
+        let to_point = |b: &[u32; 3]| {
+            let [x, y, z] = b.map(|b| f32::from_bits(b) as f64);
+            Point3::new(x, y, z)
+        };
+        if duplicates == 0 {
+            return (bits.iter().map(to_point).collect(), triangles);
+        }
+        // Survivors keep their order; a duplicate takes the id of its earliest copy, which
+        // comes before it and so is already numbered.
+        let mut final_id = canonical;
+        let mut positions = Vec::with_capacity(bits.len() - duplicates);
+        for v in 0..final_id.len() {
+            let c = final_id[v] as usize;
+            if c == v {
+                final_id[v] = positions.len() as u32;
+                positions.push(to_point(&bits[v]));
+            } else {
+                final_id[v] = final_id[c];
+            }
+        }
+        drop(bits);
+        for t in &mut triangles {
+            *t = t.map(|v| final_id[v as usize]);
+        }
+        (positions, triangles)
     }
+}
+
+/// For every entry of `bits`, the index of its first equal entry (itself if it is the
+/// first), and how many entries are not first; found bucket by bucket after partitioning
+/// by hash, so every pass but the rare duplicate's write is sequential.
+fn earliest_copies(bits: &[[u32; 3]]) -> (Vec<u32>, usize) {
+    let n = bits.len();
+    let buckets = (n / BUCKET_TARGET).next_power_of_two().max(1);
+    let shift = 64 - buckets.trailing_zeros();
+    // Bucket by the hash's top bits (the local tables use its low bits).
+    let bucket_of = |b: &[u32; 3]| {
+        if buckets == 1 {
+            0
+        } else {
+            (hash_bits(b) >> shift) as usize
+        }
+    };
+    let mut start = vec![0u32; buckets + 1];
+    for b in bits {
+        start[bucket_of(b) + 1] += 1;
+    }
+    for i in 0..buckets {
+        start[i + 1] += start[i];
+    }
+    // Counting sort: each bucket holds its entries (pattern and index) in index order.
+    let mut sorted = vec![EMPTY; n];
+    let mut fill = start.clone();
+    for (v, b) in bits.iter().enumerate() {
+        let k = bucket_of(b);
+        sorted[fill[k] as usize] = Slot {
+            bits: *b,
+            id: v as u32,
+        };
+        fill[k] += 1;
+    }
+    drop(fill);
+    let mut canonical: Vec<u32> = (0..n as u32).collect();
+    let mut duplicates = 0;
+    // Slots of the bucket's entries (positions in `members`), EMPTY_ID when free.
+    let mut table: Vec<u32> = Vec::new();
+    for k in 0..buckets {
+        let members = &sorted[start[k] as usize..start[k + 1] as usize];
+        // At most half full, so probing meets an empty slot.
+        let size = (2 * members.len()).next_power_of_two().max(2);
+        table.clear();
+        table.resize(size, EMPTY_ID);
+        let mask = size - 1;
+        for (m, slot) in members.iter().enumerate() {
+            let mut i = hash_bits(&slot.bits) as usize & mask;
+            // Ends: the table has more empty slots than members.
+            loop {
+                match table[i] {
+                    EMPTY_ID => {
+                        table[i] = m as u32;
+                        break;
+                    }
+                    e if members[e as usize].bits == slot.bits => {
+                        canonical[slot.id as usize] = members[e as usize].id;
+                        duplicates += 1;
+                        break;
+                    }
+                    _ => i = (i + 1) & mask,
+                }
+            }
+        }
+    }
+    (canonical, duplicates)
 }
 
 #[cfg(test)]

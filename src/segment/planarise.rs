@@ -27,7 +27,7 @@
 //!   counting sort over 4096 bins of the rule's key, ties by face index (linear, deterministic).
 
 use super::{Regions, SeedRule, MIN_ANGLE_RAD};
-use crate::math::{angle_between, cos, Real, Vector3};
+use crate::math::{angle_between, cos, larger, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry};
 use std::f64::consts::PI;
 
@@ -55,20 +55,21 @@ pub fn seed_order(adjacency: &FaceAdjacency, geometry: &FaceGeometry, rule: Seed
     let n = geometry.face_count();
     let normals = geometry.normals();
     // Key in [0, 1]: 0 is tried first.
-    let key: Box<dyn Fn(usize) -> Real> = match rule {
-        SeedRule::LowestIndex => return (0..n as u32).collect(),
-        SeedRule::Flattest => Box::new(move |f| {
+    match rule {
+        SeedRule::LowestIndex => (0..n as u32).collect(),
+        SeedRule::Flattest => order_by_key(geometry, |f| {
             // (1 − cos) of the sharpest bend to a neighbour, halved into [0, 1].
             adjacency
                 .neighbours_of(f)
                 .filter(|&g| !geometry.is_degenerate(g))
                 .map(|g| 0.5 * (1.0 - normals[f].dot(&normals[g])))
-                .fold(0.0, Real::max)
+                // Keys of unit normals are never NaN, and the only zero is 0.5 · (+0).
+                .fold(0.0, larger)
         }),
         SeedRule::LargestArea => {
-            let largest = geometry.areas().iter().copied().fold(0.0, Real::max);
             let areas = geometry.areas();
-            Box::new(move |f| {
+            let largest = areas.iter().copied().fold(0.0, Real::max);
+            order_by_key(geometry, |f| {
                 if largest > 0.0 {
                     1.0 - areas[f] / largest
                 } else {
@@ -76,19 +77,25 @@ pub fn seed_order(adjacency: &FaceAdjacency, geometry: &FaceGeometry, rule: Seed
                 }
             })
         }
-    };
-    let bin = |f: usize| -> usize {
-        if geometry.is_degenerate(f) {
-            SEED_BINS - 1
-        } else {
-            ((key(f).clamp(0.0, 1.0) * (SEED_BINS - 2) as Real) as usize).min(SEED_BINS - 2)
-        }
-    };
-    let bins: Vec<u16> = (0..n).map(|f| bin(f) as u16).collect();
-    let mut start = vec![0u32; SEED_BINS + 1];
-    for &b in &bins {
-        start[b as usize + 1] += 1;
     }
+}
+
+/// Faces in increasing order of `key` binned into [`SEED_BINS`] − 1 bins, degenerate faces
+/// last, ties by face index (a counting sort).
+fn order_by_key(geometry: &FaceGeometry, key: impl Fn(usize) -> Real) -> Vec<u32> {
+    let n = geometry.face_count();
+    let mut start = vec![0u32; SEED_BINS + 1];
+    let bins: Vec<u16> = (0..n)
+        .map(|f| {
+            let b = if geometry.is_degenerate(f) {
+                SEED_BINS - 1
+            } else {
+                ((key(f).clamp(0.0, 1.0) * (SEED_BINS - 2) as Real) as usize).min(SEED_BINS - 2)
+            };
+            start[b + 1] += 1;
+            b as u16
+        })
+        .collect();
     for b in 0..SEED_BINS {
         start[b + 1] += start[b];
     }
@@ -138,15 +145,20 @@ impl Grower<'_> {
             .fold(Vector3::zeros(), |s, &f| s + self.weighted(f as usize))
     }
 
-    /// Grows patch `p` from `seed` against the running mean, with retries.
-    fn grow(&mut self, seed: usize, p: u32) {
+    /// Grows patch `p` from `seed` against the running mean, with retries; returns the sum
+    /// of the members' weighted normals, bit for bit [`Grower::sum_of_members`].
+    fn grow(&mut self, seed: usize, p: u32) -> Vector3 {
         let region = self.region_of[seed];
         self.attempt += 1;
         self.members.clear();
         self.refused.clear();
         self.members.push(seed as u32);
         self.patch_of[seed] = p;
-        let mut sum = self.weighted(seed);
+        // Summed from zero in member order, as `sum_of_members` does (which only matters
+        // for the sign of zero components).
+        let mut sum = Vector3::zeros() + self.weighted(seed);
+        // |sum|, recomputed only when sum changes.
+        let mut len = sum.norm();
         let mut head = 0;
         for _ in 0..=RETRY_ROUNDS {
             // Step 3): look at the neighbours of the patch's faces.
@@ -160,9 +172,10 @@ impl Grower<'_> {
                     {
                         continue;
                     }
-                    if self.fits(g, &sum, sum.norm()) {
+                    if self.fits(g, &sum, len) {
                         self.patch_of[g] = p;
                         sum += self.weighted(g);
+                        len = sum.norm();
                         self.members.push(g as u32);
                     } else {
                         self.stamp[g] = self.attempt;
@@ -175,9 +188,10 @@ impl Grower<'_> {
             let refused = std::mem::take(&mut self.refused);
             for &g in &refused {
                 let g = g as usize;
-                if self.patch_of[g] == UNASSIGNED && self.fits(g, &sum, sum.norm()) {
+                if self.patch_of[g] == UNASSIGNED && self.fits(g, &sum, len) {
                     self.patch_of[g] = p;
                     sum += self.weighted(g);
+                    len = sum.norm();
                     self.members.push(g as u32);
                 } else if self.patch_of[g] == UNASSIGNED {
                     self.refused.push(g as u32);
@@ -187,6 +201,7 @@ impl Grower<'_> {
                 break;
             }
         }
+        sum
     }
 
     fn release(&mut self, f: u32) {
@@ -241,9 +256,15 @@ impl Grower<'_> {
     /// Each round sums the members once and lists those within [`TRIM_MARGIN_RAD`] of the
     /// limit; while the mean moves less than the margin only they can fall outside, so
     /// trimming re-checks just that list. Then the largest connected part is kept.
-    fn repair(&mut self, p: u32) {
+    /// `grown_sum` is the members' sum as `grow` left them.
+    fn repair(&mut self, p: u32, grown_sum: Vector3) {
+        debug_assert_eq!(
+            grown_sum.map(Real::to_bits),
+            self.sum_of_members().map(Real::to_bits)
+        );
+        let mut known_sum = Some(grown_sum);
         for _ in 0..REPAIR_ROUNDS {
-            let mut sum = self.sum_of_members();
+            let mut sum = known_sum.take().unwrap_or_else(|| self.sum_of_members());
             let anchor = sum;
             let anchor_len = anchor.norm();
             let mut near: Vec<u32> = self
@@ -403,8 +424,8 @@ pub fn planarise(
             }
         };
         let Some(seed) = seed else { break };
-        grower.grow(seed, count);
-        grower.repair(count);
+        let sum = grower.grow(seed, count);
+        grower.repair(count, sum);
         if grower.members.is_empty() {
             // Repair released every face (possible when the mean of what grew fits none of
             // them): the seed alone is a patch, within θmax of its own normal for any

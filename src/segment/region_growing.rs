@@ -5,7 +5,8 @@
 //! `γ / l < κ` (grinding, `l` the centroid distance, Eq. 5–6).
 //! Input:  face adjacency and geometry; a validated [`GrowthThreshold`].
 //! Output: a region id per face; every region is edge-connected.
-//! Cost:   linear in faces (each face is queued once and looks at three neighbours).
+//! Cost:   linear in faces (each face is queued once and looks at three neighbours); with
+//!         no degenerate face, one sequential union–find pass instead of the growing.
 //! Deviations: the paper starts from a random face. The pairwise test is symmetric, so the
 //! regions are the connected components of the "may join" graph and do not depend on the
 //! seed; we take seeds in index order. A degenerate face (no usable normal) joins any region
@@ -36,24 +37,14 @@ pub fn grow_regions(
     let n = adjacency.face_count();
     let normals = geometry.normals();
     let centroids = geometry.centroids();
-    let mut region_of = vec![UNASSIGNED; n];
-    // The face whose normal a face stands in with: itself, or for a degenerate face the one
-    // it was reached from.
-    let mut proxy: Vec<u32> = (0..n as u32).collect();
-    let mut queue: Vec<u32> = Vec::with_capacity(64);
     let cos_alpha = match threshold {
         GrowthThreshold::Angle(alpha) => cos(alpha),
         GrowthThreshold::Curvature(_) => 0.0,
     };
-    let joins = |t: usize, g: usize, proxy: &[u32]| -> bool {
-        if geometry.is_degenerate(g) {
-            return true;
-        }
-        let nt = &normals[proxy[t] as usize];
-        if *nt == crate::math::Vector3::zeros() {
-            // Only a region seeded on a degenerate face, all of whose faces are degenerate.
-            return false;
-        }
+    // The pairwise test between two faces with usable normals (symmetric in t and g: the dot
+    // product, |a × b| and the centroid distance are the same both ways round).
+    let pair_joins = |t: usize, g: usize| -> bool {
+        let nt = &normals[t];
         match threshold {
             // γ < α ⇔ cos γ > cos α on [0, π]; unit normals make the dot product cos γ.
             GrowthThreshold::Angle(_) => nt.dot(&normals[g]) > cos_alpha,
@@ -63,14 +54,42 @@ pub fn grow_regions(
             }
         }
     };
+    if geometry.degenerate_count() == 0 {
+        // One closure per criterion, so that each is inlined in the pass.
+        return match threshold {
+            GrowthThreshold::Angle(_) => {
+                components(adjacency, |t, g| normals[t].dot(&normals[g]) > cos_alpha)
+            }
+            GrowthThreshold::Curvature(_) => components(adjacency, pair_joins),
+        };
+    }
+    let mut region_of = vec![UNASSIGNED; n];
+    // The face whose normal a face stands in with: itself, or for a degenerate face the one
+    // it was reached from.
+    let mut proxy: Vec<u32> = (0..n as u32).collect();
+    let mut queue: Vec<u32> = Vec::with_capacity(64);
+    let joins = |t: usize, g: usize, proxy: &[u32]| -> bool {
+        if geometry.is_degenerate(g) {
+            return true;
+        }
+        if geometry.is_degenerate(proxy[t] as usize) {
+            // Only a region seeded on a degenerate face, all of whose faces are degenerate.
+            return false;
+        }
+        pair_joins(proxy[t] as usize, g)
+    };
 
     let mut count = 0u32;
-    // Seeds with a usable normal first, so degenerate faces only seed all-degenerate regions.
-    let seeds = (0..n)
-        .filter(|&f| !geometry.is_degenerate(f))
-        .chain((0..n).filter(|&f| geometry.is_degenerate(f)));
-    for seed in seeds {
-        if region_of[seed] != UNASSIGNED {
+    // Seeds with a usable normal first, so degenerate faces only seed all-degenerate regions
+    // (a second round, needed only if there are degenerate faces).
+    let rounds = if geometry.degenerate_count() == 0 {
+        1
+    } else {
+        2
+    };
+    let seeds = (0..rounds).flat_map(|round| (0..n).map(move |f| (round, f)));
+    for (round, seed) in seeds {
+        if region_of[seed] != UNASSIGNED || geometry.is_degenerate(seed) != (round == 1) {
             continue;
         }
         region_of[seed] = count;
@@ -92,6 +111,53 @@ pub fn grow_regions(
     }
     Regions {
         region_of,
+        count: count as usize,
+    }
+}
+
+/// Regions when no face is degenerate: the test is then symmetric and each face stands for
+/// itself, so the regions are the connected components of the "may join" graph whatever
+/// the order of growing. They are found with a union–find in one sequential pass over the
+/// faces (the smaller face id stays the root), and numbered in order of their smallest
+/// face, as growing from seeds in index order numbers them.
+fn components(adjacency: &FaceAdjacency, joins: impl Fn(usize, usize) -> bool) -> Regions {
+    let n = adjacency.face_count();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    let find = |parent: &mut [u32], mut x: u32| -> u32 {
+        // Ends: a parent is never larger than its child, so x decreases.
+        while parent[x as usize] != x {
+            let up = parent[parent[x as usize] as usize];
+            parent[x as usize] = up;
+            x = up;
+        }
+        x
+    };
+    for f in 0..n {
+        for g in adjacency.neighbours_of(f) {
+            if g > f && joins(f, g) {
+                let (rf, rg) = (find(&mut parent, f as u32), find(&mut parent, g as u32));
+                let (lo, hi) = if rf < rg { (rf, rg) } else { (rg, rf) };
+                parent[hi as usize] = lo;
+            }
+        }
+    }
+    for f in 0..n {
+        parent[f] = find(&mut parent, f as u32);
+    }
+    // Now every face points at its root, its region's smallest face, which is numbered
+    // (overwritten with its region id) before the region's other faces are met.
+    let mut count = 0u32;
+    for f in 0..n {
+        let root = parent[f] as usize;
+        parent[f] = if root == f {
+            count += 1;
+            count - 1
+        } else {
+            parent[root]
+        };
+    }
+    Regions {
+        region_of: parent,
         count: count as usize,
     }
 }

@@ -79,6 +79,8 @@ pub fn segment_with_progress(
     let regions = grow_regions(adjacency, geometry, threshold);
     progress("planarise", 0.0);
     let order = seed_order(adjacency, geometry, params.seed_rule);
+    // Reported again so that the seed order's time can be told from the growing's.
+    progress("planarise", 0.0);
     let planar = planarise(
         adjacency,
         geometry,
@@ -112,12 +114,6 @@ pub fn segment_with_progress(
     for (id, &p) in kept.iter().enumerate() {
         new_id[p] = id as i32;
     }
-    let patch_of: Vec<i32> = planar
-        .patch_of
-        .iter()
-        .map(|&p| new_id[p as usize])
-        .collect();
-
     let mut patches: Vec<Patch> = kept
         .iter()
         .enumerate()
@@ -140,13 +136,22 @@ pub fn segment_with_progress(
             }
         })
         .collect();
-    // Largest deviation via the smallest cosine per patch, then one acos per patch.
+    // Largest deviation via the smallest cosine per patch, then one acos per patch; in the
+    // same pass, the final ids.
     let mut min_cos = vec![1.0f64; patches.len()];
-    for (f, &id) in patch_of.iter().enumerate() {
+    let mean: Vec<Vector3> = patches.iter().map(|p| Vector3::from(p.normal)).collect();
+    let mut patch_of = Vec::with_capacity(planar.patch_of.len());
+    for (f, &p) in planar.patch_of.iter().enumerate() {
+        let id = new_id[p as usize];
+        patch_of.push(id);
         if id != DROPPED && !geometry.is_degenerate(f) {
-            let normal = Vector3::from(patches[id as usize].normal);
             let c = &mut min_cos[id as usize];
-            *c = c.min(geometry.normals()[f].dot(&normal));
+            let dot = geometry.normals()[f].dot(&mean[id as usize]);
+            // A comparison, not `f64::min` (a call on WebAssembly): the cosines are finite,
+            // and for a ±0 pair either choice gives the same acos.
+            if dot < *c {
+                *c = dot;
+            }
         }
     }
     for (patch, c) in patches.iter_mut().zip(min_cos) {

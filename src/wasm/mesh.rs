@@ -3,7 +3,7 @@
 use super::params::{read_bytes, read_callback, read_index_list, read_vector3};
 use super::{progress_fn, DistanceField, Segmentation, SprayPlan};
 use crate::math::{Compact, Point3, Real, Vector3};
-use crate::mesh::{import_stl, ImportedMesh, MeshIndex, RayHit};
+use crate::mesh::{prepare_mesh, read_stl_with_progress, ImportedMesh, MeshIndex, RayHit};
 use std::cell::OnceCell;
 use std::rc::Rc;
 use wasm_bindgen::prelude::*;
@@ -89,7 +89,12 @@ impl Mesh {
     ) -> Result<Mesh, JsError> {
         let bytes = read_bytes(&bytes, "the STL file")?;
         let on_progress = read_callback(on_progress, "onProgress")?;
-        let imported = import_stl(&bytes, &mut progress_fn(on_progress))?;
+        let mut progress = progress_fn(on_progress);
+        let import = read_stl_with_progress(&bytes, &mut progress)?;
+        // The copy of the file is not needed past parsing: freeing it here lowers the peak
+        // memory of the import by the file's size.
+        drop(bytes);
+        let imported = prepare_mesh(import, &mut progress)?;
         Ok(Mesh {
             inner: Rc::new(imported),
             index: SharedIndex::default(),
