@@ -10,33 +10,14 @@ use skinpath::mesh::{FaceAdjacency, TriMesh};
 use std::f64::consts::PI;
 use std::time::Instant;
 
-fn grid(nu: usize, nv: usize, wrap: bool, f: impl Fn(Real, Real) -> Point3) -> TriMesh {
-    let cols = if wrap { nu } else { nu + 1 };
-    let mut pos = Vec::new();
-    for j in 0..=nv {
-        for i in 0..cols {
-            pos.push(f(i as Real / nu as Real, j as Real / nv as Real));
-        }
-    }
-    let id = |i: usize, j: usize| (j * cols + i % cols) as u32;
-    let mut tri = Vec::new();
-    for j in 0..nv {
-        for i in 0..nu {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (i + j) % 2 == 0 {
-                tri.push([a, b, c]);
-                tri.push([a, c, d]);
-            } else {
-                tri.push([a, b, d]);
-                tri.push([b, c, d]);
-            }
-        }
-    }
-    TriMesh::new(pos, tri).expect("valid mesh")
-}
+#[path = "../tests/common/geodesic_shapes.rs"]
+mod shapes;
+use shapes::height;
 
-fn height(x: Real, y: Real) -> Real {
-    40.0 * 0.5 * (1.0 - (PI * x / 60.0).cos()) * (0.6 + 0.4 * (PI * y / 50.0).sin())
+/// The shared test grid as a mesh.
+fn grid(nu: usize, nv: usize, wrap: bool, f: impl Fn(Real, Real) -> Point3) -> TriMesh {
+    let (positions, triangles) = shapes::grid(nu, nv, wrap, f);
+    TriMesh::new(positions, triangles).expect("valid mesh")
 }
 
 fn run(
