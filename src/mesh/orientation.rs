@@ -80,16 +80,15 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
         while head < queue.len() {
             let f = queue[head] as usize;
             head += 1;
-            let t = mesh.triangles()[f];
             for (k, g) in adjacency.neighbours(f).into_iter().enumerate() {
                 if g == super::NO_FACE {
                     closed = false;
                     continue;
                 }
                 let g = g as usize;
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                // g must end up flipped relative to f exactly when the file winds them alike.
-                let same = uses_directed_edge(&mesh.triangles()[g], a, b);
+                // g must end up flipped relative to f exactly when the file winds them alike
+                // (as the adjacency found; no face of this part is flipped yet).
+                let same = adjacency.same_direction(f, k);
                 let want = if same == (state[f] == FLIP) {
                     KEEP
                 } else {
@@ -142,7 +141,11 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
         }
     }
     debug_assert_eq!(queue.len(), n);
-    adjacency.set_winding_conflicts(report.inconsistent_edges);
+    let triangles = mesh.triangles();
+    adjacency.set_winding_conflicts(report.inconsistent_edges, |f, k, g| {
+        let t = &triangles[f];
+        uses_directed_edge(&triangles[g], t[k], t[(k + 1) % 3])
+    });
     report
 }
 
