@@ -80,6 +80,12 @@ pub fn seed_order(adjacency: &FaceAdjacency, geometry: &FaceGeometry, rule: Seed
     }
 }
 
+/// The [`SeedRule::Flattest`] order from each face's sharpest bend, as
+/// [`grow_regions_and_bends`](super::region_growing::grow_regions_and_bends) gives it.
+pub(crate) fn flattest_order(geometry: &FaceGeometry, bend: &[Real]) -> Vec<u32> {
+    order_by_key(geometry, |f| bend[f])
+}
+
 /// Faces in increasing order of `key` binned into [`SEED_BINS`] − 1 bins, degenerate faces
 /// last, ties by face index (a counting sort).
 fn order_by_key(geometry: &FaceGeometry, key: impl Fn(usize) -> Real) -> Vec<u32> {
