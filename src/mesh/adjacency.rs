@@ -125,7 +125,8 @@ impl FaceAdjacency {
         let mut neighbours = vec![[NO_FACE; 3]; n];
         let mut union_find = UnionFind((0..n as u32).collect());
         let (mut boundary_edges, mut non_manifold_edges, mut winding_conflicts) = (0, 0, 0);
-        let mut same_direction: Vec<u8> = Vec::new();
+        // The two (face, corner) ends of every link wound alike (rare: kept out of the walk).
+        let mut conflicts: Vec<[u32; 2]> = Vec::new();
         // Vertex by vertex, the faces on each edge `u – w` are the entries with other vertex
         // `w` in the two runs of `u`: sorted by `(w, face·4 + corner)` (a unique key, so the
         // order is deterministic), equal `w` are neighbours. Every edge is resolved once, so
@@ -175,12 +176,7 @@ impl FaceAdjacency {
                         union_find.union(f >> 2, g >> 2);
                         // Both on one side: they traverse the edge the same way.
                         if backward.len() != 1 {
-                            winding_conflicts += 1;
-                            if same_direction.is_empty() {
-                                same_direction = vec![0; n];
-                            }
-                            same_direction[(f >> 2) as usize] |= 1 << (f & 3);
-                            same_direction[(g >> 2) as usize] |= 1 << (g & 3);
+                            conflicts.push([f, g]);
                         }
                     }
                     _ => {
@@ -198,6 +194,14 @@ impl FaceAdjacency {
             }
         }
         drop(out);
+        winding_conflicts += conflicts.len();
+        let mut same_direction: Vec<u8> = Vec::new();
+        if !conflicts.is_empty() {
+            same_direction = vec![0; n];
+            for e in conflicts.into_iter().flatten() {
+                same_direction[(e >> 2) as usize] |= 1 << (e & 3);
+            }
+        }
         // Number components 0, 1, … in order of their first face.
         let mut component_of = vec![u32::MAX; n];
         let mut components = 0u32;
