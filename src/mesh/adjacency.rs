@@ -29,6 +29,9 @@ pub struct FaceAdjacency {
     non_manifold_edges: usize,
     components: usize,
     winding_conflicts: usize,
+    /// Per face, bit `k` set when the face across slot `k` traverses their edge in the same
+    /// direction (a winding conflict); empty when no linked edge has one.
+    same_direction: Vec<u8>,
 }
 
 /// Union–find over faces with path halving; used to find edge-connected components.
@@ -122,6 +125,8 @@ impl FaceAdjacency {
         let mut neighbours = vec![[NO_FACE; 3]; n];
         let mut union_find = UnionFind((0..n as u32).collect());
         let (mut boundary_edges, mut non_manifold_edges, mut winding_conflicts) = (0, 0, 0);
+        // The two (face, corner) ends of every link wound alike (rare: kept out of the walk).
+        let mut conflicts: Vec<[u32; 2]> = Vec::new();
         // Vertex by vertex, the faces on each edge `u – w` are the entries with other vertex
         // `w` in the two runs of `u`: sorted by `(w, face·4 + corner)` (a unique key, so the
         // order is deterministic), equal `w` are neighbours. Every edge is resolved once, so
@@ -170,7 +175,9 @@ impl FaceAdjacency {
                         neighbours[(g >> 2) as usize][(g & 3) as usize] = f >> 2;
                         union_find.union(f >> 2, g >> 2);
                         // Both on one side: they traverse the edge the same way.
-                        winding_conflicts += usize::from(backward.len() != 1);
+                        if backward.len() != 1 {
+                            conflicts.push([f, g]);
+                        }
                     }
                     _ => {
                         // Three or more faces: they link nobody (their slots stay NO_FACE)
@@ -187,6 +194,14 @@ impl FaceAdjacency {
             }
         }
         drop(out);
+        winding_conflicts += conflicts.len();
+        let mut same_direction: Vec<u8> = Vec::new();
+        if !conflicts.is_empty() {
+            same_direction = vec![0; n];
+            for e in conflicts.into_iter().flatten() {
+                same_direction[(e >> 2) as usize] |= 1 << (e & 3);
+            }
+        }
         // Number components 0, 1, … in order of their first face.
         let mut component_of = vec![u32::MAX; n];
         let mut components = 0u32;
@@ -205,6 +220,7 @@ impl FaceAdjacency {
             non_manifold_edges,
             components: components as usize,
             winding_conflicts,
+            same_direction,
         }
     }
 
@@ -256,12 +272,45 @@ impl FaceAdjacency {
         self.winding_conflicts
     }
 
-    pub(crate) fn set_winding_conflicts(&mut self, count: usize) {
+    /// Whether the face across slot `k` of `f` traverses their shared edge in the same
+    /// direction as `f` (false where there is no face across).
+    #[inline]
+    pub(crate) fn same_direction(&self, f: usize, k: usize) -> bool {
+        self.same_direction
+            .get(f)
+            .is_some_and(|&bits| bits >> k & 1 != 0)
+    }
+
+    /// Sets the winding conflicts after faces were flipped: `count` of them, on the links
+    /// for which `conflict(f, k, g)` holds (`g` the face across slot `k` of `f`; called
+    /// only when `count > 0`).
+    pub(crate) fn set_winding_conflicts(
+        &mut self,
+        count: usize,
+        mut conflict: impl FnMut(usize, usize, usize) -> bool,
+    ) {
         self.winding_conflicts = count;
+        self.same_direction.clear();
+        if count > 0 {
+            let neighbours = &self.neighbours;
+            self.same_direction = (0..neighbours.len())
+                .map(|f| {
+                    (0..3)
+                        .filter(|&k| {
+                            let g = neighbours[f][k];
+                            g != NO_FACE && conflict(f, k, g as usize)
+                        })
+                        .fold(0u8, |bits, k| bits | 1 << k)
+                })
+                .collect();
+        }
+        self.same_direction.shrink_to_fit();
     }
 
     /// Reorders the slots of `f` after its winding was reversed by swapping corners 1 and 2:
-    /// the edges (0,1), (1,2), (2,0) become (0,2), (2,1), (1,0).
+    /// the edges (0,1), (1,2), (2,0) become (0,2), (2,1), (1,0). The directions of its links
+    /// are left as they were: a caller that flips faces with conflicts calls
+    /// [`FaceAdjacency::set_winding_conflicts`] after.
     pub(crate) fn flip(&mut self, f: usize) {
         self.neighbours[f].swap(0, 2);
     }

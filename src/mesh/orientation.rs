@@ -8,8 +8,10 @@
 //! A non-orientable patch (a Möbius strip) keeps one edge inconsistent; those are counted.
 //! Fast path: when the adjacency found no wrongly wound and no non-manifold edge, the parts
 //! are the components and only closed ones with negative volume are turned (one pass).
-//! For the import, the fast path measures the faces (normals, areas, centroids) in the pass
-//! that turns them (see `orient_and_measure`).
+//! The propagation reads which links are wound alike from the adjacency (no triangle is
+//! read while it runs) and turns faces in one sequential pass at the end. For the import,
+//! both paths measure the faces (normals, areas, centroids) in the pass that turns them
+//! (see `orient_and_measure`).
 //! Cost: linear in faces; 5 bytes a face of scratch.
 
 use super::{FaceAdjacency, FaceGeometry, TriMesh};
@@ -38,7 +40,7 @@ pub fn orient_consistently(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) ->
     if adjacency.winding_conflicts() == 0 && adjacency.non_manifold_edges() == 0 {
         return turn_closed_components_outwards(mesh, adjacency, None);
     }
-    propagate_winding(mesh, adjacency)
+    propagate_winding(mesh, adjacency, None)
 }
 
 /// [`orient_consistently`] followed by [`FaceGeometry::new`] in the new winding, with the
@@ -52,16 +54,23 @@ pub(crate) fn orient_and_measure(
         let report = turn_closed_components_outwards(mesh, adjacency, Some(&mut geometry));
         return (report, geometry);
     }
-    // Here the corners are read in breadth-first order: a sequential pass is faster.
-    let report = propagate_winding(mesh, adjacency);
-    (report, FaceGeometry::new(mesh))
+    let mut geometry = FaceGeometry::with_capacity(mesh.triangle_count());
+    let report = propagate_winding(mesh, adjacency, Some(&mut geometry));
+    (report, geometry)
 }
 
-/// The general case: breadth-first propagation of the winding over manifold edges.
-fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> OrientationReport {
+/// The general case: breadth-first propagation of the winding over manifold edges. The
+/// faces are turned (and with `geometry`, measured) in one sequential pass at the end.
+fn propagate_winding(
+    mesh: &mut TriMesh,
+    adjacency: &mut FaceAdjacency,
+    mut geometry: Option<&mut FaceGeometry>,
+) -> OrientationReport {
     const UNSET: u8 = 0;
     const KEEP: u8 = 1;
     const FLIP: u8 = 2;
+    // Once a part is decided: whether the face is turned.
+    const TURN: u8 = 3;
     let n = mesh.triangle_count();
     let mut state = vec![UNSET; n];
     let mut queue: Vec<u32> = Vec::with_capacity(n);
@@ -80,16 +89,15 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
         while head < queue.len() {
             let f = queue[head] as usize;
             head += 1;
-            let t = mesh.triangles()[f];
             for (k, g) in adjacency.neighbours(f).into_iter().enumerate() {
                 if g == super::NO_FACE {
                     closed = false;
                     continue;
                 }
                 let g = g as usize;
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                // g must end up flipped relative to f exactly when the file winds them alike.
-                let same = uses_directed_edge(&mesh.triangles()[g], a, b);
+                // g must end up flipped relative to f exactly when the file winds them alike
+                // (as the adjacency found; no face of this part is flipped yet).
+                let same = adjacency.same_direction(f, k);
                 let want = if same == (state[f] == FLIP) {
                     KEEP
                 } else {
@@ -132,17 +140,34 @@ fn propagate_winding(mesh: &mut TriMesh, adjacency: &mut FaceAdjacency) -> Orien
             }
             flipped > kept
         };
+        // Parts share no link and the volume's origin is a corner 0, which turning keeps:
+        // turning later gives the same results.
         for &f in part {
             let f = f as usize;
-            if (state[f] == FLIP) != flip_whole_part {
-                mesh.flip(f);
-                adjacency.flip(f);
-                report.flipped_faces += 1;
-            }
+            state[f] = if (state[f] == FLIP) != flip_whole_part {
+                TURN
+            } else {
+                KEEP
+            };
         }
     }
     debug_assert_eq!(queue.len(), n);
-    adjacency.set_winding_conflicts(report.inconsistent_edges);
+    drop(queue);
+    for (f, &s) in state.iter().enumerate() {
+        if s == TURN {
+            mesh.flip(f);
+            adjacency.flip(f);
+            report.flipped_faces += 1;
+        }
+        if let Some(geometry) = geometry.as_deref_mut() {
+            geometry.push(mesh.corners(f));
+        }
+    }
+    let triangles = mesh.triangles();
+    adjacency.set_winding_conflicts(report.inconsistent_edges, |f, k, g| {
+        let t = &triangles[f];
+        uses_directed_edge(&triangles[g], t[k], t[(k + 1) % 3])
+    });
     report
 }
 

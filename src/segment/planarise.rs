@@ -39,7 +39,15 @@ pub const REPAIR_ROUNDS: usize = 8;
 /// typical θmax keeps the list short and the mean rarely drifts that far in one round).
 pub const TRIM_MARGIN_RAD: Real = 0.05;
 const SEED_BINS: usize = 4096;
-const UNASSIGNED: u32 = u32::MAX;
+/// Marks a face in no patch yet: `patch_of` holds `FREE | region` for it, so one load tells
+/// "free and in this region" (patch and region ids are below 2³¹: at most one per face).
+const FREE: u32 = 1 << 31;
+
+/// Whether a `patch_of` entry marks a face in no patch yet.
+#[inline]
+fn is_free(entry: u32) -> bool {
+    entry & FREE != 0
+}
 
 /// Step-2 patches: `patch_of[f]` for every face, ids `0..count` in order of creation.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -80,6 +88,12 @@ pub fn seed_order(adjacency: &FaceAdjacency, geometry: &FaceGeometry, rule: Seed
     }
 }
 
+/// The [`SeedRule::Flattest`] order from each face's sharpest bend, as
+/// [`grow_regions_and_bends`](super::region_growing::grow_regions_and_bends) gives it.
+pub(crate) fn flattest_order(geometry: &FaceGeometry, bend: &[Real]) -> Vec<u32> {
+    order_by_key(geometry, |f| bend[f])
+}
+
 /// Faces in increasing order of `key` binned into [`SEED_BINS`] − 1 bins, degenerate faces
 /// last, ties by face index (a counting sort).
 fn order_by_key(geometry: &FaceGeometry, key: impl Fn(usize) -> Real) -> Vec<u32> {
@@ -118,6 +132,7 @@ struct Grower<'a> {
     cap_cos: Real,
     /// θmax ≥ [`MIN_ANGLE_RAD`]: the numerical tests can keep the θmax promise.
     guaranteed: bool,
+    /// Patch of every face, or `FREE | region` while it has none.
     patch_of: Vec<u32>,
     /// Per face: the patch attempt that last refused (or visited) it.
     stamp: Vec<u32>,
@@ -148,7 +163,8 @@ impl Grower<'_> {
     /// Grows patch `p` from `seed` against the running mean, with retries; returns the sum
     /// of the members' weighted normals, bit for bit [`Grower::sum_of_members`].
     fn grow(&mut self, seed: usize, p: u32) -> Vector3 {
-        let region = self.region_of[seed];
+        // The entry of a free face of this region.
+        let free = FREE | self.region_of[seed];
         self.attempt += 1;
         self.members.clear();
         self.refused.clear();
@@ -166,10 +182,7 @@ impl Grower<'_> {
                 let t = self.members[head] as usize;
                 head += 1;
                 for g in self.adjacency.neighbours_of(t) {
-                    if self.patch_of[g] != UNASSIGNED
-                        || self.region_of[g] != region
-                        || self.stamp[g] == self.attempt
-                    {
+                    if self.patch_of[g] != free || self.stamp[g] == self.attempt {
                         continue;
                     }
                     if self.fits(g, &sum, len) {
@@ -188,12 +201,12 @@ impl Grower<'_> {
             let refused = std::mem::take(&mut self.refused);
             for &g in &refused {
                 let g = g as usize;
-                if self.patch_of[g] == UNASSIGNED && self.fits(g, &sum, len) {
+                if self.patch_of[g] == free && self.fits(g, &sum, len) {
                     self.patch_of[g] = p;
                     sum += self.weighted(g);
                     len = sum.norm();
                     self.members.push(g as u32);
-                } else if self.patch_of[g] == UNASSIGNED {
+                } else if self.patch_of[g] == free {
                     self.refused.push(g as u32);
                 }
             }
@@ -205,7 +218,7 @@ impl Grower<'_> {
     }
 
     fn release(&mut self, f: u32) {
-        self.patch_of[f as usize] = UNASSIGNED;
+        self.patch_of[f as usize] = FREE | self.region_of[f as usize];
         self.released.push(f);
     }
 
@@ -388,7 +401,7 @@ pub fn planarise(
         near_cos: cos((theta_max_rad - TRIM_MARGIN_RAD).max(0.0)),
         cap_cos: cos(0.5 * theta_max_rad),
         guaranteed: theta_max_rad >= MIN_ANGLE_RAD,
-        patch_of: vec![UNASSIGNED; n],
+        patch_of: regions.region_of.iter().map(|&r| FREE | r).collect(),
         stamp: vec![0; n],
         attempt: 0,
         members: Vec::new(),
@@ -410,13 +423,13 @@ pub fn planarise(
         // Faces released by the last repair seed first: they lie next to the patch just made.
         let seed = loop {
             if let Some(f) = grower.released.pop() {
-                if grower.patch_of[f as usize] == UNASSIGNED {
+                if is_free(grower.patch_of[f as usize]) {
                     break Some(f as usize);
                 }
             } else if next < seed_order.len() {
                 let f = seed_order[next] as usize;
                 next += 1;
-                if grower.patch_of[f] == UNASSIGNED {
+                if is_free(grower.patch_of[f]) {
                     break Some(f);
                 }
             } else {
@@ -440,7 +453,7 @@ pub fn planarise(
             next_report = assigned + report_every;
         }
     }
-    debug_assert!(grower.patch_of.iter().all(|&p| p != UNASSIGNED));
+    debug_assert!(grower.patch_of.iter().all(|&p| !is_free(p)));
     debug_assert!(count as usize <= n);
     Patches {
         patch_of: grower.patch_of,

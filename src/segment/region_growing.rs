@@ -14,7 +14,7 @@
 //! chosen so that zero-area slivers at T-junctions neither split nor bridge regions).
 
 use super::GrowthThreshold;
-use crate::math::{angle_between, cos, Real};
+use crate::math::{angle_between, cos, larger, Real};
 use crate::mesh::{FaceAdjacency, FaceGeometry};
 
 /// Step-1 regions: `region_of[f]` for every face, ids `0..count` in order of their seeds.
@@ -34,6 +34,22 @@ pub fn grow_regions(
     geometry: &FaceGeometry,
     threshold: GrowthThreshold,
 ) -> Regions {
+    grow_regions_and_bends(adjacency, geometry, threshold, false).0
+}
+
+/// [`grow_regions`], and with `bends`, where the angle criterion compares the same dot
+/// products and no face is degenerate, each face's sharpest bend to a neighbour,
+/// `max(0, max_g ½(1 − n_f·n_g))` (the [`SeedRule::Flattest`] key of
+/// [`seed_order`](super::seed_order), bit for bit: the dot product is symmetric and the
+/// maximum does not depend on the order), from the union–find's pass.
+///
+/// [`SeedRule::Flattest`]: super::SeedRule::Flattest
+pub(crate) fn grow_regions_and_bends(
+    adjacency: &FaceAdjacency,
+    geometry: &FaceGeometry,
+    threshold: GrowthThreshold,
+    bends: bool,
+) -> (Regions, Option<Vec<Real>>) {
     let n = adjacency.face_count();
     let normals = geometry.normals();
     let centroids = geometry.centroids();
@@ -57,10 +73,22 @@ pub fn grow_regions(
     if geometry.degenerate_count() == 0 {
         // One closure per criterion, so that each is inlined in the pass.
         return match threshold {
-            GrowthThreshold::Angle(_) => {
-                components(adjacency, |t, g| normals[t].dot(&normals[g]) > cos_alpha)
+            GrowthThreshold::Angle(_) if bends => {
+                let mut bend = vec![0.0; n];
+                let regions = components(adjacency, |t, g| {
+                    let dot = normals[t].dot(&normals[g]);
+                    let b = 0.5 * (1.0 - dot);
+                    bend[t] = larger(bend[t], b);
+                    bend[g] = larger(bend[g], b);
+                    dot > cos_alpha
+                });
+                (regions, Some(bend))
             }
-            GrowthThreshold::Curvature(_) => components(adjacency, pair_joins),
+            GrowthThreshold::Angle(_) => (
+                components(adjacency, |t, g| normals[t].dot(&normals[g]) > cos_alpha),
+                None,
+            ),
+            GrowthThreshold::Curvature(_) => (components(adjacency, pair_joins), None),
         };
     }
     let mut region_of = vec![UNASSIGNED; n];
@@ -109,10 +137,11 @@ pub fn grow_regions(
         }
         count += 1;
     }
-    Regions {
+    let regions = Regions {
         region_of,
         count: count as usize,
-    }
+    };
+    (regions, None)
 }
 
 /// Regions when no face is degenerate: the test is then symmetric and each face stands for
@@ -120,7 +149,8 @@ pub fn grow_regions(
 /// the order of growing. They are found with a union–find in one sequential pass over the
 /// faces (the smaller face id stays the root), and numbered in order of their smallest
 /// face, as growing from seeds in index order numbers them.
-fn components(adjacency: &FaceAdjacency, joins: impl Fn(usize, usize) -> bool) -> Regions {
+/// `joins` is called once for every linked pair of faces, smaller face first.
+fn components(adjacency: &FaceAdjacency, mut joins: impl FnMut(usize, usize) -> bool) -> Regions {
     let n = adjacency.face_count();
     let mut parent: Vec<u32> = (0..n as u32).collect();
     let find = |parent: &mut [u32], mut x: u32| -> u32 {

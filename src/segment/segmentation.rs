@@ -4,7 +4,9 @@
 //! `A_fin < ε·A`; their faces get [`DROPPED`].
 //! Cost: linear in faces, plus a sort of the patches by area.
 
-use super::{grow_regions, planarise, seed_order, GrowthThreshold, ParamError, SegmentParams};
+use super::planarise::flattest_order;
+use super::region_growing::grow_regions_and_bends;
+use super::{planarise, seed_order, GrowthThreshold, ParamError, SeedRule, SegmentParams};
 use crate::math::{acos_clamped, Point3, Real, Vector3};
 use crate::mesh::{write_stl, FaceAdjacency, FaceGeometry, TriMesh};
 
@@ -76,9 +78,18 @@ pub fn segment_with_progress(
         "adjacency and geometry must describe the same mesh"
     );
     progress("regions", 0.0);
-    let regions = grow_regions(adjacency, geometry, threshold);
+    // The flattest-first order's key comes from the dot products the regions compare.
+    let (regions, bend) = grow_regions_and_bends(
+        adjacency,
+        geometry,
+        threshold,
+        params.seed_rule == SeedRule::Flattest,
+    );
     progress("planarise", 0.0);
-    let order = seed_order(adjacency, geometry, params.seed_rule);
+    let order = match bend {
+        Some(bend) => flattest_order(geometry, &bend),
+        None => seed_order(adjacency, geometry, params.seed_rule),
+    };
     // Reported again so that the seed order's time can be told from the growing's.
     progress("planarise", 0.0);
     let planar = planarise(
