@@ -4,7 +4,7 @@
 //   dist/vendor/…                             third-party modules listed in www/vendor.json
 // `npm run build` runs scripts/setup.sh first; run directly, a missing tool is named in one line.
 import { execFileSync, spawnSync } from 'node:child_process';
-import { appendFileSync, cpSync, mkdirSync, readFileSync, rmSync, existsSync, statSync } from 'node:fs';
+import { appendFileSync, cpSync, mkdirSync, readFileSync, readdirSync, rmSync, existsSync, statSync } from 'node:fs';
 import { delimiter, dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -147,6 +147,10 @@ function buildWasm() {
 }
 
 function copySite() {
+  // Everything but the wasm package is rewritten, so files removed from www/ (or from
+  // vendor.json) do not linger in dist/ from an earlier build.
+  mkdirSync(dist, { recursive: true });
+  for (const name of readdirSync(dist)) if (name !== 'pkg') rmSync(join(dist, name), { recursive: true, force: true });
   cpSync(join(root, 'www'), dist, { recursive: true, filter: (src) => !src.endsWith('vendor.json') });
   const manifest = join(root, 'www', 'vendor.json');
   if (!existsSync(manifest)) return;
