@@ -4,43 +4,20 @@
 
 use skinpath::geodesic::{geodesic_distance, DistanceParams, GeodesicSource, Method, PathParams};
 use skinpath::math::{Point3, Real};
-use skinpath::mesh::{FaceAdjacency, TriMesh};
 use std::f64::consts::PI;
 use std::time::Instant;
+
+#[path = "../tests/common/geodesic_shapes.rs"]
+mod shapes;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let arg = |i: usize, d: Real| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let (around, along, voxel) = (arg(1, 500.0) as usize, arg(2, 200.0) as usize, arg(3, 0.5));
-    let (r, len) = (50.0, 120.0);
-    let mut pos = Vec::new();
-    for j in 0..=along {
-        for i in 0..around {
-            let a = 2.0 * PI * i as Real / around as Real;
-            pos.push(Point3::new(
-                r * a.cos(),
-                r * a.sin(),
-                len * j as Real / along as Real,
-            ));
-        }
-    }
-    let id = |i: usize, j: usize| (j * around + i % around) as u32;
-    let mut tri = Vec::new();
-    for j in 0..along {
-        for i in 0..around {
-            tri.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            tri.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    let mesh = TriMesh::new(pos, tri).expect("valid mesh");
-    let adjacency = FaceAdjacency::new(&mesh);
+    let (r, len) = (shapes::R, shapes::LEN);
+    let shapes::Shape { mesh, adjacency } = shapes::cylinder(around, along);
     println!("cylinder: {} triangles", mesh.triangle_count());
-    let ring: Vec<Point3> = (0..64)
-        .map(|i| {
-            let a = 2.0 * PI * (i as Real + 0.3) / 64.0;
-            Point3::new(r * a.cos(), r * a.sin(), 0.0)
-        })
-        .collect();
+    let ring = shapes::ring(0.0, 64, 0.3);
     let a0 = 2.0 * PI * 0.37 / around as Real;
     let generator = vec![
         Point3::new(r * a0.cos(), r * a0.sin(), 0.0),

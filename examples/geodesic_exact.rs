@@ -38,7 +38,7 @@ fn run(
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let arg = |i: usize, d: Real| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
-    let (r, len) = (50.0, 120.0);
+    let (r, len) = (shapes::R, shapes::LEN);
     match args.get(1).map(String::as_str) {
         Some("height") => {
             let cell = arg(2, 1.0);
@@ -92,17 +92,8 @@ fn main() {
         }
         _ => {
             let (around, along) = (arg(2, 500.0) as usize, arg(3, 200.0) as usize);
-            let mesh = grid(around, along, true, |u, v| {
-                let a = 2.0 * PI * u;
-                Point3::new(r * a.cos(), r * a.sin(), len * v)
-            });
-            let adjacency = FaceAdjacency::new(&mesh);
-            let ring = (0..64)
-                .map(|i| {
-                    let a = 2.0 * PI * (i as Real + 0.3) / 64.0;
-                    Point3::new(r * a.cos(), r * a.sin(), 0.0)
-                })
-                .collect();
+            let shapes::Shape { mesh, adjacency } = shapes::cylinder(around, along);
+            let ring = shapes::ring(0.0, 64, 0.3);
             let a0 = 2.0 * PI * 0.37 / around as Real;
             let generator = vec![
                 Point3::new(r * a0.cos(), r * a0.sin(), 0.0),
