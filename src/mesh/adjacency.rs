@@ -77,6 +77,7 @@ impl FaceAdjacency {
 
     /// [`FaceAdjacency::new`] reporting `("adjacency", fraction)` now and then.
     pub fn with_progress(mesh: &TriMesh, progress: &mut dyn FnMut(&str, f64)) -> Self {
+        progress("adjacency", 0.0);
         let triangles = mesh.triangles();
         let n = triangles.len();
         assert!(

@@ -57,16 +57,22 @@ fn canonical_bits(p: &[f32; 3]) -> [u32; 3] {
     p.map(|c| (c + 0.0).to_bits())
 }
 
-/// fmix64 of MurmurHash3 over the packed bit patterns.
+/// A hash of the packed bit patterns whose high bits are well mixed (the low bits are not:
+/// the callers take the top ones). Three independent multiplications by odd constants, so
+/// the three corners of a triangle hash in parallel; coordinates with zero low mantissa
+/// bits (integer grids) still spread, as the products' high bits depend on every bit.
 #[inline]
 fn hash_bits(bits: &[u32; 3]) -> u64 {
     let [x, y, z] = bits.map(u64::from);
-    let mut h = (x | (y << 32)) ^ z.wrapping_mul(0x9e37_79b9_7f4a_7c15);
-    h ^= h >> 33;
-    h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
-    h ^= h >> 33;
-    h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
-    h ^ (h >> 33)
+    x.wrapping_mul(0x9e37_79b9_7f4a_7c15)
+        ^ y.wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
+        ^ z.wrapping_mul(0x1656_67b1_9e37_79f9)
+}
+
+/// The cache slot of a corner: the hash's top bits.
+#[inline]
+fn recent_slot(bits: &[u32; 3]) -> usize {
+    (hash_bits(bits) >> (64 - RECENT_SLOTS.trailing_zeros())) as usize
 }
 
 impl Welder {
@@ -103,7 +109,7 @@ impl Welder {
 
     #[inline]
     fn vertex_id(&mut self, bits: [u32; 3]) -> u32 {
-        let slot = &mut self.recent[hash_bits(&bits) as usize & (RECENT_SLOTS - 1)];
+        let slot = &mut self.recent[recent_slot(&bits)];
         if slot.id != EMPTY_ID && slot.bits == bits {
             return slot.id;
         }
@@ -165,7 +171,7 @@ fn earliest_copies(bits: &[[u32; 3]]) -> (Vec<u32>, usize) {
     let n = bits.len();
     let buckets = (n / BUCKET_TARGET).next_power_of_two().max(1);
     let shift = 64 - buckets.trailing_zeros();
-    // Bucket by the hash's top bits (the local tables use its low bits).
+    // Bucket by the hash's top bits (the local tables use bits below them).
     let bucket_of = |b: &[u32; 3]| {
         if buckets == 1 {
             0
@@ -204,7 +210,8 @@ fn earliest_copies(bits: &[[u32; 3]]) -> (Vec<u32>, usize) {
         table.resize(size, EMPTY_ID);
         let mask = size - 1;
         for (m, slot) in members.iter().enumerate() {
-            let mut i = hash_bits(&slot.bits) as usize & mask;
+            // Bits below the bucket's, which are mixed (not the lowest: see `hash_bits`).
+            let mut i = (hash_bits(&slot.bits) >> 24) as usize & mask;
             // Ends: the table has more empty slots than members.
             loop {
                 match table[i] {
