@@ -40,8 +40,13 @@ pub const REPAIR_ROUNDS: usize = 8;
 pub const TRIM_MARGIN_RAD: Real = 0.05;
 const SEED_BINS: usize = 4096;
 /// Marks a face in no patch yet: `patch_of` holds `FREE | region` for it, so one load tells
-/// "free and in this region" (patch and region ids are below 2³¹: at most one per face).
+/// "free and in this region" (patch and region ids are below 2³⁰: at most one per face, and
+/// at most `MAX_FACES` < 2³⁰ faces).
 const FREE: u32 = 1 << 31;
+/// Marks, for the duration of one `grow` or `keep_largest_part`, a face already looked at:
+/// refused (a free face) or reached (a member). Set and cleared in the entry itself, so the
+/// test that skips such a face is the same load as the patch test.
+const MARK: u32 = 1 << 30;
 
 /// Whether a `patch_of` entry marks a face in no patch yet.
 #[inline]
@@ -134,9 +139,6 @@ struct Grower<'a> {
     guaranteed: bool,
     /// Patch of every face, or `FREE | region` while it has none.
     patch_of: Vec<u32>,
-    /// Per face: the patch attempt that last refused (or visited) it.
-    stamp: Vec<u32>,
-    attempt: u32,
     members: Vec<u32>,
     refused: Vec<u32>,
     released: Vec<u32>,
@@ -165,7 +167,6 @@ impl Grower<'_> {
     fn grow(&mut self, seed: usize, p: u32) -> Vector3 {
         // The entry of a free face of this region.
         let free = FREE | self.region_of[seed];
-        self.attempt += 1;
         self.members.clear();
         self.refused.clear();
         self.members.push(seed as u32);
@@ -182,7 +183,8 @@ impl Grower<'_> {
                 let t = self.members[head] as usize;
                 head += 1;
                 for g in self.adjacency.neighbours_of(t) {
-                    if self.patch_of[g] != free || self.stamp[g] == self.attempt {
+                    // A face refused before carries MARK and is skipped.
+                    if self.patch_of[g] != free {
                         continue;
                     }
                     if self.fits(g, &sum, len) {
@@ -191,7 +193,7 @@ impl Grower<'_> {
                         len = sum.norm();
                         self.members.push(g as u32);
                     } else {
-                        self.stamp[g] = self.attempt;
+                        self.patch_of[g] = free | MARK;
                         self.refused.push(g as u32);
                     }
                 }
@@ -201,18 +203,22 @@ impl Grower<'_> {
             let refused = std::mem::take(&mut self.refused);
             for &g in &refused {
                 let g = g as usize;
-                if self.patch_of[g] == free && self.fits(g, &sum, len) {
+                if self.patch_of[g] == free | MARK && self.fits(g, &sum, len) {
                     self.patch_of[g] = p;
                     sum += self.weighted(g);
                     len = sum.norm();
                     self.members.push(g as u32);
-                } else if self.patch_of[g] == free {
+                } else if self.patch_of[g] == free | MARK {
                     self.refused.push(g as u32);
                 }
             }
             if self.members.len() == before {
                 break;
             }
+        }
+        // The faces still refused are all the marked ones.
+        for &g in &self.refused {
+            self.patch_of[g as usize] = free;
         }
         sum
     }
@@ -227,15 +233,15 @@ impl Grower<'_> {
     fn keep_largest_part(&mut self, p: u32) -> bool {
         let mut members = std::mem::take(&mut self.members);
         members.retain(|&f| self.patch_of[f as usize] == p);
-        self.attempt += 1;
         let mut best: (Real, usize, usize) = (-1.0, 0, 0);
         let mut order: Vec<u32> = Vec::with_capacity(members.len());
+        // A member reached by the search below carries MARK until the end.
         for &f in &members {
-            if self.stamp[f as usize] == self.attempt {
+            if self.patch_of[f as usize] != p {
                 continue;
             }
             let start = order.len();
-            self.stamp[f as usize] = self.attempt;
+            self.patch_of[f as usize] = p | MARK;
             order.push(f);
             let mut head = start;
             let mut area = 0.0;
@@ -244,8 +250,8 @@ impl Grower<'_> {
                 head += 1;
                 area += self.geometry.areas()[t];
                 for g in self.adjacency.neighbours_of(t) {
-                    if self.patch_of[g] == p && self.stamp[g] != self.attempt {
-                        self.stamp[g] = self.attempt;
+                    if self.patch_of[g] == p {
+                        self.patch_of[g] = p | MARK;
                         order.push(g as u32);
                     }
                 }
@@ -260,6 +266,9 @@ impl Grower<'_> {
         }
         order.truncate(best.2);
         order.drain(..best.1);
+        for &f in &order {
+            self.patch_of[f as usize] = p;
+        }
         self.members = order;
         dropped > 0
     }
@@ -402,8 +411,6 @@ pub fn planarise(
         cap_cos: cos(0.5 * theta_max_rad),
         guaranteed: theta_max_rad >= MIN_ANGLE_RAD,
         patch_of: regions.region_of.iter().map(|&r| FREE | r).collect(),
-        stamp: vec![0; n],
-        attempt: 0,
         members: Vec::new(),
         refused: Vec::new(),
         released: Vec::new(),
