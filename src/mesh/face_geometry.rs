@@ -5,7 +5,7 @@ use crate::math::{larger, Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
 
 /// Unit normal (zero when degenerate), area and centroid of the face with corners
 /// `[a, b, c]` in that winding.
-#[inline]
+#[inline(always)]
 fn measure([a, b, c]: [Point3; 3]) -> (Vector3, Real, Point3) {
     let scaled = (b - a).cross(&(c - a));
     let twice_area = scaled.norm();
@@ -63,7 +63,7 @@ impl FaceGeometry {
     }
 
     /// Appends the face with corners `[a, b, c]` (in its winding).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn push(&mut self, corners: [Point3; 3]) {
         let (normal, area, centroid) = measure(corners);
         self.degenerate += usize::from(normal == Vector3::zeros());

@@ -173,7 +173,7 @@ fn propagate_winding(
 
 /// Signed volume of tetrahedra from `origin` over a face (positive for an outward face of a
 /// closed surface around `origin`), times 6.
-#[inline]
+#[inline(always)]
 fn signed_volume6(mesh: &TriMesh, f: usize, origin: &nalgebra::Vector3<f64>) -> f64 {
     let [a, b, c] = mesh.corners(f).map(|p| p.coords - origin);
     a.dot(&b.cross(&c))
