@@ -66,6 +66,28 @@ struct OutEdge {
     to: u32,
 }
 
+/// Sorts a run by `(to, face_corner)`, a unique key: in place by insertion when short (the
+/// common case: a vertex has a handful of edges, and a call into the library's sort per run
+/// costs more than the sorting), else by the library's unstable sort (O(k log k)).
+#[inline]
+fn sort_run(run: &mut [OutEdge]) {
+    let key = |e: &OutEdge| (e.to, e.face_corner);
+    if run.len() > 8 {
+        run.sort_unstable_by_key(key);
+        return;
+    }
+    for i in 1..run.len() {
+        let e = run[i];
+        let mut j = i;
+        // Ends: j decreases to 0 at the latest.
+        while j > 0 && key(&run[j - 1]) > key(&e) {
+            run[j] = run[j - 1];
+            j -= 1;
+        }
+        run[j] = e;
+    }
+}
+
 /// Most faces a mesh may have here: face ids are packed with a 2-bit corner into a `u32`.
 pub const MAX_FACES: usize = (u32::MAX >> 2) as usize;
 
@@ -142,9 +164,8 @@ impl FaceAdjacency {
                 offsets[2 * u + 1] as usize,
                 offsets[2 * u + 2] as usize,
             );
-            let key = |e: &OutEdge| (e.to, e.face_corner);
-            out[o0..o1].sort_unstable_by_key(key);
-            out[o1..o2].sort_unstable_by_key(key);
+            sort_run(&mut out[o0..o1]);
+            sort_run(&mut out[o1..o2]);
             let (leaving, arriving) = out[o0..o2].split_at(o1 - o0);
             let (mut i, mut j) = (0, 0);
             // Ends: each pass consumes at least one entry of the two runs.
