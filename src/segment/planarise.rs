@@ -16,7 +16,9 @@
 //!   from the final mean, which drifts as a patch wraps around a fuselage. After growing,
 //!   faces at or beyond `θmax` from the final mean are released (incrementally, re-checking
 //!   only faces near the limit), the largest-area connected remainder is kept, and this
-//!   repeats ([`REPAIR_ROUNDS`] at most). If it has not settled
+//!   repeats ([`REPAIR_ROUNDS`] at most). When the mean has settled and a search within a
+//!   few links of the released faces shows the rest still connected, that search stands in
+//!   for the one over the whole patch (the result is the same). If it has not settled
 //!   by then, the patch keeps only the connected faces within `θmax / 2` of its mean around
 //!   the best-aligned face: normals inside a cap of radius `θmax/2` have their mean inside
 //!   the cap, so each is within `θmax` of it. Released faces seed the next patches.
@@ -29,10 +31,14 @@
 use super::{Regions, SeedRule, MIN_ANGLE_RAD};
 use crate::math::{angle_between, cos, larger, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry};
+use rustc_hash::{FxHashMap, FxHashSet};
 use std::f64::consts::PI;
 
 /// How often refused candidates are retried against the updated mean.
 pub const RETRY_ROUNDS: usize = 16;
+/// How far from the trimmed faces (in links between faces) the check that a trimmed patch
+/// is still connected looks (no paper: enough to go round a vertex of valence 8).
+const NEAR_LINKS: usize = 4;
 /// How often a grown patch is trimmed to its final mean before the cap fallback.
 pub const REPAIR_ROUNDS: usize = 8;
 /// Width of the band below θmax that the incremental trim watches (no paper; a tenth of a
@@ -273,6 +279,103 @@ impl Grower<'_> {
         dropped > 0
     }
 
+    /// Whether the members of patch `p` are still edge-connected after the faces
+    /// `released[from..]` (`T`) were released from it, as far as a search near them can
+    /// tell; the patch must have been connected before. `true` is certain, `false` may not be.
+    ///
+    /// Why it suffices: a path between two members that crosses a connected group `C` of
+    /// `T` enters and leaves it from members touching `C`. If, for every such group, the
+    /// members touching it are connected among the members within [`NEAR_LINKS`] links of
+    /// `T`, every crossing can be rerouted, so the members are connected. Cost: linear in
+    /// `|T|` (every face looked at is within a few links of a face of `T`), not in the patch.
+    fn stays_connected(&self, p: u32, from: usize) -> bool {
+        const UNSET: u32 = u32::MAX;
+        let (adjacency, patch_of) = (self.adjacency, &self.patch_of);
+        let released = &self.released[from..];
+        let trimmed: FxHashSet<u32> = released.iter().copied().collect();
+        // Members within NEAR_LINKS links of T, each with the piece of the search below it
+        // falls in; those one link away touch T.
+        let mut piece: FxHashMap<u32, u32> = FxHashMap::default();
+        let mut touching: Vec<u32> = Vec::new();
+        let mut level: Vec<u32> = released.to_vec();
+        for links in 1..=NEAR_LINKS {
+            let mut next = Vec::new();
+            for &f in &level {
+                for g in adjacency.neighbours_of(f as usize) {
+                    if patch_of[g] == p && !piece.contains_key(&(g as u32)) {
+                        piece.insert(g as u32, UNSET);
+                        next.push(g as u32);
+                    }
+                }
+            }
+            if links == 1 {
+                touching.clone_from(&next);
+            }
+            level = next;
+        }
+        // Pieces: connected parts of those members, found from the ones touching T.
+        let mut queue: Vec<u32> = Vec::new();
+        let mut pieces = 0;
+        for &start in &touching {
+            if piece[&start] != UNSET {
+                continue;
+            }
+            piece.insert(start, pieces);
+            queue.clear();
+            queue.push(start);
+            let mut head = 0;
+            // Ends: a face enters `queue` when its piece is set, once.
+            while head < queue.len() {
+                let g = queue[head];
+                head += 1;
+                for h in adjacency.neighbours_of(g as usize) {
+                    if let Some(id) = piece.get_mut(&(h as u32)) {
+                        if *id == UNSET {
+                            *id = pieces;
+                            queue.push(h as u32);
+                        }
+                    }
+                }
+            }
+            pieces += 1;
+        }
+        if pieces <= 1 {
+            return true;
+        }
+        // Every connected group of T must touch one piece only.
+        let mut done: FxHashSet<u32> = FxHashSet::default();
+        for &t in released {
+            if !done.insert(t) {
+                continue;
+            }
+            let mut group_piece = UNSET;
+            queue.clear();
+            queue.push(t);
+            let mut head = 0;
+            // Ends: a face enters `queue` once (`done`).
+            while head < queue.len() {
+                let c = queue[head];
+                head += 1;
+                for h in adjacency.neighbours_of(c as usize) {
+                    let h = h as u32;
+                    if trimmed.contains(&h) {
+                        if done.insert(h) {
+                            queue.push(h);
+                        }
+                    } else if patch_of[h as usize] == p {
+                        let id = piece[&h];
+                        if group_piece == UNSET {
+                            group_piece = id;
+                        } else if group_piece != id {
+                            return false;
+                        }
+                    }
+                }
+            }
+        }
+        true
+    }
+
     /// Makes every member strictly within θmax of the patch's final mean normal.
     ///
     /// Each round sums the members once and lists those within [`TRIM_MARGIN_RAD`] of the
@@ -300,6 +403,7 @@ impl Grower<'_> {
                 .collect();
             let mut trimmed = false;
             let mut drifted = false;
+            let released_before = self.released.len();
             loop {
                 // Every face of the list is judged against the same mean, then the mean moves.
                 let len = sum.norm();
@@ -327,6 +431,14 @@ impl Grower<'_> {
                 }
             }
             if !trimmed {
+                return;
+            }
+            // With the mean settled, the members' order no longer matters (it only orders
+            // the next round's sum): when a search near the trimmed faces shows the rest
+            // still connected, the search over the whole patch is not needed.
+            if !drifted && self.stays_connected(p, released_before) {
+                let patch_of = &self.patch_of;
+                self.members.retain(|&f| patch_of[f as usize] == p);
                 return;
             }
             let split = self.keep_largest_part(p);
@@ -465,5 +577,119 @@ pub fn planarise(
     Patches {
         patch_of: grower.patch_of,
         count: count as usize,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Point3;
+    use crate::mesh::TriMesh;
+
+    /// A flat n × n grid of squares, two triangles each (faces 2(i·n + j) and +1 in square
+    /// (i, j)).
+    fn grid(n: usize) -> TriMesh {
+        let v = |i: usize, j: usize| (i * (n + 1) + j) as u32;
+        let positions = (0..=n)
+            .flat_map(|i| (0..=n).map(move |j| Point3::new(j as Real, i as Real, 0.0)))
+            .collect();
+        let triangles = (0..n)
+            .flat_map(|i| {
+                (0..n).flat_map(move |j| {
+                    [
+                        [v(i, j), v(i, j + 1), v(i + 1, j + 1)],
+                        [v(i, j), v(i + 1, j + 1), v(i + 1, j)],
+                    ]
+                })
+            })
+            .collect();
+        TriMesh::new(positions, triangles).unwrap()
+    }
+
+    /// Whether the faces still in patch 0 are edge-connected (a search over all of them).
+    fn connected(adjacency: &FaceAdjacency, patch_of: &[u32]) -> bool {
+        let members: Vec<usize> = (0..patch_of.len()).filter(|&f| patch_of[f] == 0).collect();
+        let Some(&start) = members.first() else {
+            return true;
+        };
+        let mut seen = vec![false; patch_of.len()];
+        seen[start] = true;
+        let mut queue = vec![start];
+        while let Some(f) = queue.pop() {
+            for g in adjacency.neighbours_of(f) {
+                if patch_of[g] == 0 && !seen[g] {
+                    seen[g] = true;
+                    queue.push(g);
+                }
+            }
+        }
+        members.iter().all(|&f| seen[f])
+    }
+
+    #[test]
+    fn the_local_connectivity_check_is_never_wrong_when_it_says_connected() {
+        let n = 12;
+        let mesh = grid(n);
+        let adjacency = FaceAdjacency::new(&mesh);
+        let geometry = FaceGeometry::new(&mesh);
+        let region_of = vec![0; mesh.triangle_count()];
+        let square = |i: usize, j: usize| [2 * (i * n + j) as u32, 2 * (i * n + j) as u32 + 1];
+        let cases: Vec<(&str, Vec<u32>, bool)> = vec![
+            // (what, released faces, whether the check must find them harmless)
+            (
+                "a border column",
+                (0..n).flat_map(|i| square(i, 0)).collect(),
+                true,
+            ),
+            (
+                "scattered faces",
+                vec![square(3, 3)[0], square(7, 5)[1], square(9, 9)[0]],
+                true,
+            ),
+            (
+                "a column across",
+                (0..n).flat_map(|i| square(i, 5)).collect(),
+                false,
+            ),
+            (
+                "a ring round an island",
+                (3..9)
+                    .flat_map(|i| (3..9).map(move |j| (i, j)))
+                    .filter(|&(i, j)| i == 3 || i == 8 || j == 3 || j == 8)
+                    .flat_map(|(i, j)| square(i, j))
+                    .collect(),
+                false,
+            ),
+            (
+                "two borders at once",
+                (0..n)
+                    .flat_map(|i| [square(i, 0), square(i, n - 1)])
+                    .flatten()
+                    .collect(),
+                true,
+            ),
+        ];
+        for (what, released, harmless) in cases {
+            let mut grower = Grower {
+                adjacency: &adjacency,
+                geometry: &geometry,
+                region_of: &region_of,
+                cos_theta: 0.0,
+                near_cos: 0.0,
+                cap_cos: 0.0,
+                guaranteed: true,
+                patch_of: vec![0; mesh.triangle_count()],
+                members: (0..mesh.triangle_count() as u32).collect(),
+                refused: Vec::new(),
+                released: Vec::new(),
+            };
+            for &f in &released {
+                grower.release(f);
+            }
+            let answer = grower.stays_connected(0, 0);
+            let truth = connected(&adjacency, &grower.patch_of);
+            assert_eq!(truth, harmless, "{what}: the test case itself");
+            assert_eq!(answer, harmless, "{what}");
+        }
     }
 }
