@@ -255,6 +255,15 @@ async function runGeodesic(shape, target, method) {
   return result;
 }
 
+/**
+ * A full garbage collection, then a pause for the collector's background threads (sweeping,
+ * returning pages) to finish, so that neither timed call shares the machine with them.
+ */
+async function settle() {
+  globalThis.gc?.();
+  await new Promise((resolve) => setTimeout(resolve, 50));
+}
+
 function median(xs) {
   const s = [...xs].sort((a, b) => a - b);
   return s[Math.floor(s.length / 2)];
@@ -279,12 +288,12 @@ async function runOne(shape, target) {
   const parse = [], segment = [], three = [];
   const loader = new STLLoader();
   for (let r = 0; r < runs; r++) {
-    globalThis.gc?.();
+    await settle();
     let t = performance.now();
     const g = loader.parse(bytes.buffer);
     three.push(performance.now() - t);
     g.dispose();
-    globalThis.gc?.();
+    await settle();
     t = performance.now();
     mesh = Mesh.fromStl(bytes);
     parse.push(performance.now() - t);
