@@ -10,7 +10,7 @@ import { CancelledError } from '../app/engine.js';
 import { download, fileStem } from '../app/download.js';
 import { fieldText, integer, num } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
-import { viridis } from './spray.js';
+import { viridis, viridisInto } from './spray.js';
 
 const P = 'paths.'; // settings key prefix
 
@@ -439,15 +439,22 @@ class PathsTool {
     const max = run.maxDistance > 0 ? run.maxDistance : 1;
     const colors = new Uint8Array(d.length * 3);
     for (let i = 0; i < d.length; i++) {
-      const c = Number.isFinite(d[i]) ? viridis(d[i] / max) : UNREACHED;
-      colors.set(c, 3 * i);
+      if (Number.isFinite(d[i])) viridisInto(d[i] / max, colors, 3 * i);
+      else colors.set(UNREACHED, 3 * i);
     }
     const I = out.indices;
-    const kept = [];
+    // Typed, not a growing array of numbers: at millions of triangles the latter costs
+    // seconds and gigabytes.
+    const kept = new Uint32Array(I.length);
+    let k = 0;
     for (let t = 0; t < I.length; t += 3) {
-      if (Number.isFinite(d[I[t]]) && Number.isFinite(d[I[t + 1]]) && Number.isFinite(d[I[t + 2]])) kept.push(I[t], I[t + 1], I[t + 2]);
+      if (Number.isFinite(d[I[t]]) && Number.isFinite(d[I[t + 1]]) && Number.isFinite(d[I[t + 2]])) {
+        kept[k++] = I[t];
+        kept[k++] = I[t + 1];
+        kept[k++] = I[t + 2];
+      }
     }
-    viewer.setLayer('paths.map', { kind: 'surface', positions: out.positions, indices: Uint32Array.from(kept), colors });
+    viewer.setLayer('paths.map', { kind: 'surface', positions: out.positions, indices: kept.subarray(0, k), colors });
     const lines = (closed) => {
       const pos = [];
       const col = [];

@@ -76,12 +76,22 @@ function hexRgb(hex) {
 
 /** Viridis colour of t in [0, 1] as [r, g, b] bytes. */
 export function viridis(t) {
+  const out = [0, 0, 0];
+  viridisInto(t, out, 0);
+  return out;
+}
+
+let viridisRgb;
+
+/** `viridis(t)` written to `out[at … at + 2]`, allocating nothing (for per-vertex loops). */
+export function viridisInto(t, out, at) {
+  viridisRgb ??= VIRIDIS.map(hexRgb);
   const x = Math.min(Math.max(Number.isFinite(t) ? t : 0, 0), 1) * (VIRIDIS.length - 1);
   const i = Math.min(Math.floor(x), VIRIDIS.length - 2);
   const f = x - i;
-  const a = hexRgb(VIRIDIS[i]);
-  const b = hexRgb(VIRIDIS[i + 1]);
-  return [0, 1, 2].map((k) => Math.round(a[k] + (b[k] - a[k]) * f));
+  const a = viridisRgb[i];
+  const b = viridisRgb[i + 1];
+  for (let k = 0; k < 3; k++) out[at + k] = Math.round(a[k] + (b[k] - a[k]) * f);
 }
 
 function fieldRow(f, prefix) {
@@ -448,12 +458,11 @@ class SprayTool {
     const classRgb = CLASSES.map((c) => hexRgb(c.color));
     for (let i = 0; i < t.length; i++) {
       const x = t[i] * um;
-      const c = v.colors === 'classes'
-        ? classRgb[x < v.target - v.tolerance ? 0 : x > v.target + v.tolerance ? 2 : 1]
-        : viridis(hi > lo ? (x - lo) / (hi - lo) : 0.5);
-      colors[3 * i] = c[0];
-      colors[3 * i + 1] = c[1];
-      colors[3 * i + 2] = c[2];
+      if (v.colors === 'classes') {
+        colors.set(classRgb[x < v.target - v.tolerance ? 0 : x > v.target + v.tolerance ? 2 : 1], 3 * i);
+      } else {
+        viridisInto(hi > lo ? (x - lo) / (hi - lo) : 0.5, colors, 3 * i);
+      }
     }
     this.#shell.viewer.setLayer('spray.heat', {
       kind: 'surface', positions: result.samplePositions, indices: result.sampleTriangles, colors,
