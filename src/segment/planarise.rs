@@ -132,6 +132,27 @@ fn order_by_key(geometry: &FaceGeometry, key: impl Fn(usize) -> Real) -> Vec<u32
     order
 }
 
+/// Breadth-first search from `start` with `queue` as scratch: `visit(face, queue)` is called
+/// for every face taken from the queue, pushes the faces to go on with (each once: ending
+/// is up to it) and returns false to stop there. Whether it ran to the end.
+fn breadth_first(
+    start: u32,
+    queue: &mut Vec<u32>,
+    mut visit: impl FnMut(u32, &mut Vec<u32>) -> bool,
+) -> bool {
+    queue.clear();
+    queue.push(start);
+    let mut head = 0;
+    while head < queue.len() {
+        let f = queue[head];
+        head += 1;
+        if !visit(f, queue) {
+            return false;
+        }
+    }
+    true
+}
+
 /// Scratch space and read-only inputs shared by the patches of one planarisation.
 struct Grower<'a> {
     adjacency: &'a FaceAdjacency,
@@ -321,13 +342,8 @@ impl Grower<'_> {
                 continue;
             }
             piece.insert(start, pieces);
-            queue.clear();
-            queue.push(start);
-            let mut head = 0;
-            // Ends: a face enters `queue` when its piece is set, once.
-            while head < queue.len() {
-                let g = queue[head];
-                head += 1;
+            // A face enters the queue when its piece is set, once.
+            breadth_first(start, &mut queue, |g, queue| {
                 for h in adjacency.neighbours_of(g as usize) {
                     if let Some(id) = piece.get_mut(&(h as u32)) {
                         if *id == UNSET {
@@ -336,7 +352,8 @@ impl Grower<'_> {
                         }
                     }
                 }
-            }
+                true
+            });
             pieces += 1;
         }
         if pieces <= 1 {
@@ -349,13 +366,8 @@ impl Grower<'_> {
                 continue;
             }
             let mut group_piece = UNSET;
-            queue.clear();
-            queue.push(t);
-            let mut head = 0;
-            // Ends: a face enters `queue` once (`done`).
-            while head < queue.len() {
-                let c = queue[head];
-                head += 1;
+            // A face enters the queue once (`done`).
+            let one_piece = breadth_first(t, &mut queue, |c, queue| {
                 for h in adjacency.neighbours_of(c as usize) {
                     let h = h as u32;
                     if trimmed.contains(&h) {
@@ -371,6 +383,10 @@ impl Grower<'_> {
                         }
                     }
                 }
+                true
+            });
+            if !one_piece {
+                return false;
             }
         }
         true
