@@ -10,7 +10,9 @@
 //   - mesh.segment with the paper's parameters (α 0.35 rad, θmax 1 rad, ε 10 %)
 //   - three.js STLLoader.parse of the same bytes (a plain, unwelded parse) for comparison
 //   - WebAssembly memory after import + segmentation, per triangle
-// Times are medians of several runs after a warm-up. `BENCH_STAGES=1 npm run bench` also
+// Times are medians of several runs after a warm-up (15 up to 1.5M triangles), each call
+// started after a full garbage collection and a pause (see settle), the three interleaved so
+// that load on a shared machine falls on all of them alike. `BENCH_STAGES=1 npm run bench` also
 // prints the median time of each stage, from the progress reports (see stageTimes).
 // Spray cases: a generated cylindrical skin panel; Mesh.fromStl as the yardstick, one
 // planSpray (plan + simulate at one spacing) and one spacing search (maxError 0.2), with the
@@ -276,7 +278,7 @@ async function runOne(shape, target) {
   const bytes = GENERATORS[shape](target);
   const triangles = (bytes.length - 84) / 50;
   const params = { angleThreshold: 0.35, thetaMax: 1, minAreaRatio: 0.1 };
-  const runs = triangles > 3_000_000 ? 3 : triangles > 1_500_000 ? 5 : 9;
+  const runs = triangles > 3_000_000 ? 3 : triangles > 1_500_000 ? 5 : 15;
 
   // First run: memory of one import + segmentation from a fresh module.
   let mesh = Mesh.fromStl(bytes);
