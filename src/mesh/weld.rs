@@ -1,9 +1,9 @@
 //! Welding: merging bit-identical corner positions of a triangle soup into shared vertices.
 //!
 //! No paper. Vertices are numbered in order of first appearance, in two steps:
-//! 1. While triangles arrive, a direct-mapped cache of recently seen corners (256 KiB, stays
-//!    in L2) catches the neighbours STL files list close together; a corner it misses gets
-//!    a provisional vertex at once (appended, nothing looked up). A corner first seen is
+//! 1. While triangles arrive, a direct-mapped cache of recently seen corners (1 MiB, the L2
+//!    cache of current desktop cores) catches the neighbours STL files list close together;
+//!    a corner it misses gets a provisional vertex at once (appended, nothing looked up). A corner first seen is
 //!    always a miss, so provisional ids are in order of first appearance; a corner evicted
 //!    from the cache and seen again gets a duplicate.
 //! 2. `finish` finds the duplicates cache-locally: the provisional vertices are partitioned
@@ -28,7 +28,7 @@ pub struct Welder {
     bits: Vec<[u32; 3]>,
     /// Triangles as provisional vertex ids.
     triangles: Vec<[u32; 3]>,
-    /// Direct-mapped cache of recently seen corners (256 KiB, stays in L2).
+    /// Direct-mapped cache of recently seen corners (1 MiB).
     recent: Vec<Slot>,
 }
 
@@ -44,7 +44,11 @@ const EMPTY: Slot = Slot {
     bits: [0; 3],
     id: EMPTY_ID,
 };
-const RECENT_SLOTS: usize = 1 << 14;
+/// Slots of the cache: 1 MiB of them. Against 256 KiB, duplicates (corners evicted before
+/// they came again) fall from 22 % to 6 % of the vertices on the bench's 4M-triangle
+/// fuselage, whose rings are long, and `finish` takes about a third less; at 1M (12 % to
+/// 3 %) the time is about even.
+const RECENT_SLOTS: usize = 1 << 16;
 /// The bit pattern of `-0.0_f32`.
 const NEGATIVE_ZERO: u32 = 0x8000_0000;
 /// Provisional vertices per bucket in `finish`, on average (a bucket and its table stay in
