@@ -154,7 +154,7 @@ async function runSpray(target) {
   const parse = [], plan = [], search = [];
   let samples = 0, passes = 0, found = 0, tried = 0;
   for (let r = 0; r < runs; r++) {
-    globalThis.gc?.();
+    await settle();
     let t = performance.now();
     const mesh = Mesh.fromStl(bytes);
     parse.push(performance.now() - t);
@@ -305,7 +305,7 @@ async function runOne(shape, target) {
     seg.free(); mesh.free();
   }
   const [p, s, l] = [median(parse), median(segment), median(three)];
-  const stages = process.env.BENCH_STAGES ? stageTimes(Mesh, bytes, params, runs) : undefined;
+  const stages = process.env.BENCH_STAGES ? await stageTimes(Mesh, bytes, params, runs) : undefined;
   return { shape, triangles, fromStl: p, segment: s, stlLoader: l, ratio: (p + s) / l,
     bytesPerTriangle: memory / triangles, memoryMiB: memory / 2 ** 20, patches, stages };
 }
@@ -316,10 +316,10 @@ async function runOne(shape, target) {
  * geometry; regions, seeds (seed order: from the first `planarise` report at 0 to the next
  * one), planarise, patches. The first report of a stage ends the one before.
  */
-function stageTimes(Mesh, bytes, params, runs) {
+async function stageTimes(Mesh, bytes, params, runs) {
   const all = {};
   for (let r = 0; r < runs; r++) {
-    globalThis.gc?.();
+    await settle();
     const marks = [];
     let last;
     const onProgress = (stage, fraction) => {

@@ -134,7 +134,7 @@ const ctx = {
         colors.copyWithin(start + filled, start, Math.min(start + filled, end - filled));
       }
     }
-    const sphere = boundingSphere(positions);
+    const sphere = boundingSphere(positions, boxes);
     const borders = seg ? seg.borderSegments() : new Float32Array(0);
     // The two patch ids beside each border segment, so borders of hidden patches hide too.
     const borderPatches = seg ? seg.borderPatches() : new Int32Array(0);
@@ -143,15 +143,18 @@ const ctx = {
   },
 };
 
-/** [cx, cy, cz, r]: the bounding box's centre and the largest distance of a vertex from it. */
-function boundingSphere(positions) {
+/**
+ * [cx, cy, cz, r]: the bounding box's centre and the largest distance of a vertex from it.
+ * The box is the union of the per-range `boxes` the display pass measured (every welded
+ * vertex is a corner of some triangle), so the vertices are read once more, not twice.
+ */
+function boundingSphere(positions, boxes) {
   const min = [Infinity, Infinity, Infinity];
   const max = [-Infinity, -Infinity, -Infinity];
-  for (let v = 0; v < positions.length; v += 3) {
+  for (let b = 0; b < boxes.length; b += 6) {
     for (let i = 0; i < 3; i++) {
-      const x = positions[v + i];
-      if (x < min[i]) min[i] = x;
-      if (x > max[i]) max[i] = x;
+      if (boxes[b + i] < min[i]) min[i] = boxes[b + i];
+      if (boxes[b + 3 + i] > max[i]) max[i] = boxes[b + 3 + i];
     }
   }
   if (positions.length === 0) return [0, 0, 0, 0];
