@@ -144,6 +144,7 @@ fn awkward_path(n: usize, seed: u64, half_size: f64) -> ToolPath {
         poses,
         speed: 0.4,
         link_speed: 1.25,
+        speeds: Vec::new(),
         notes: vec![
             "Spray plan: b = 120 mm, h = 250 mm, α = 40°, thickness 30 µm.".into(),
             "A \"quoted\" note with a backslash \\ and a tab\tand a very long tail that must be \
@@ -854,6 +855,7 @@ fn krl_keeps_a_through_gimbal_lock_and_unwraps_across_180() {
         poses,
         speed: 100.0,
         link_speed: 200.0,
+        speeds: Vec::new(),
         notes: vec![],
     };
     let (_, abcs) = check_krl(&path, &ExportOptions::default(), 1400);
@@ -912,6 +914,7 @@ fn drilling_path(holes: usize) -> ToolPath {
         poses,
         speed: 5.0,
         link_speed: 250.0,
+        speeds: Vec::new(),
         notes: vec![format!("Drilling: {holes} holes.")],
     }
 }
@@ -959,6 +962,7 @@ fn a_pass_spanning_a_part_boundary_keeps_the_process_on() {
         poses,
         speed: 400.0,
         link_speed: 800.0,
+        speeds: Vec::new(),
         notes: vec![],
     };
     let rapid = to_rapid(&path, &options(1.0, Some(3))).unwrap().join("\n");
@@ -1068,6 +1072,7 @@ fn empty_and_invalid_paths_are_refused() {
         poses: vec![],
         speed: 1.0,
         link_speed: 1.0,
+        speeds: Vec::new(),
         notes: vec![],
     };
     let o = ExportOptions::default();
@@ -1157,6 +1162,7 @@ fn exports_are_bit_identical_natively_and_in_webassembly() {
         poses,
         speed: 350.0,
         link_speed: 900.0,
+        speeds: Vec::new(),
         notes: vec!["fingerprint".into()],
     };
     let o = options(1.0, Some(64));

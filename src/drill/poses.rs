@@ -95,6 +95,7 @@ pub fn drilling_path(
         poses,
         speed: params.feed_speed,
         link_speed: params.link_speed,
+        speeds: Vec::new(),
         notes: all_notes,
     })
 }

@@ -199,6 +199,7 @@ impl DistanceField {
             poses,
             speed: params.speed,
             link_speed: params.link_speed,
+            speeds: Vec::new(),
             notes: vec![format!(
                 "geodesic passes: {} method, spacing {}, {} passes",
                 self.method.name(),

@@ -186,6 +186,7 @@ pub fn build_trajectory(
             poses,
             speed,
             link_speed: speed,
+            speeds: Vec::new(),
             notes,
         },
         counts,

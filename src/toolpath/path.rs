@@ -114,6 +114,11 @@ pub struct ToolPath {
     pub speed: Real,
     /// Speed for moves with the process off (links, approach, retract), mesh unit per second.
     pub link_speed: Real,
+    /// Speed of the move that arrives at each pose, mesh unit per second, when it varies
+    /// along the path (a spray plan with optimised gun speeds); empty when every process-on
+    /// move runs at `speed` and every other move at `link_speed`. Read it through
+    /// [`ToolPath::move_speed`].
+    pub speeds: Vec<Real>,
     /// Lines for the header of every exported file (what produced it, parameters, caveats).
     pub notes: Vec<String>,
 }
@@ -125,6 +130,19 @@ impl ToolPath {
             if !(s.is_finite() && s > 0.0) {
                 return Err(ToolPathError::BadSpeed(s));
             }
+        }
+        if !self.speeds.is_empty() && self.speeds.len() != self.poses.len() {
+            return Err(ToolPathError::BadOption {
+                name: "speeds",
+                why: format!(
+                    "{} speeds for {} poses (one per pose, or none)",
+                    self.speeds.len(),
+                    self.poses.len()
+                ),
+            });
+        }
+        if let Some(&s) = self.speeds.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+            return Err(ToolPathError::BadSpeed(s));
         }
         for (index, p) in self.poses.iter().enumerate() {
             let bad = |what| Err(ToolPathError::BadPose { index, what });
@@ -139,6 +157,19 @@ impl ToolPath {
             }
         }
         Ok(())
+    }
+    /// Speed of the move that arrives at pose `i` (the first pose's is that of the move to
+    /// it from wherever the tool stands).
+    pub fn move_speed(&self, i: usize) -> Real {
+        match self.speeds.get(i) {
+            Some(&s) => s,
+            None if self.poses.get(i).is_some_and(|p| p.kind.process_on()) => self.speed,
+            None => self.link_speed,
+        }
+    }
+    /// Whether the speed varies from move to move (per-pose speeds are present).
+    pub fn has_varying_speed(&self) -> bool {
+        !self.speeds.is_empty()
     }
     /// Number of distinct passes (the largest pass index + 1; 0 when empty).
     pub fn pass_count(&self) -> usize {
