@@ -16,8 +16,8 @@
 //!         `2R / piece + 1` pieces × 3 evaluations instead of `2R / (v·Δt)` time steps.
 //! Deviations: occlusion by other parts of the mesh is ignored (every point in the cone
 //!         with `cos λ > 0` is coated); points farther than `MAX_AXIAL_RATIO·h` along the axis
-//!         are ignored; the gun moves at constant speed `v` along every gun-on move (arcs
-//!         included), position interpolated linearly and axis normalised-linearly between
+//!         are ignored; the gun moves at constant speed along every gun-on move (arcs
+//!         included; `v`, or the move's own speed when the path has per-move speeds), position interpolated linearly and axis normalised-linearly between
 //!         poses; the chord is that of the piece's straight line under its mean axis (the
 //!         rate itself uses the exact interpolated pose), so where the axis turns within a
 //!         piece (at most [`CHUNK_TURN_RAD`]) the ends of the chord are approximate; pieces
@@ -93,15 +93,16 @@ pub const CHUNK_TURN_RAD: Real = 0.1;
 /// `a` the axis) moves too much along its axis for the chord formula; it is time-stepped.
 const MIN_LATERAL: Real = 0.5;
 
-/// Thickness per sample after spraying `path` at speed `speed`.
+/// Thickness per sample after spraying `path`: at speed `speed` along every gun-on move, or
+/// at the path's per-move speeds ([`ToolPath::speeds`]) when it has them.
 ///
-/// Consecutive gun-on moves are grouped into pieces of at most [`CHUNK_RADIUS_RATIO`]·R
-/// whose axis and direction turn by at most [`CHUNK_TURN_RAD`]. For each sample near a
-/// piece, the chord of the piece's straight line (start to end, mean axis) inside the cone
-/// is found in closed form (a quadratic in the line parameter), and the rate is integrated
-/// over that chord by 3-point Gauss–Legendre at the exact interpolated poses. On a plane
-/// under a constant axis the rate along the chord is a parabola, so the quadrature is exact
-/// there. Pieces moving nearly along their axis fall back to midpoint time steps of
+/// Consecutive gun-on moves at one speed are grouped into pieces of at most
+/// [`CHUNK_RADIUS_RATIO`]·R whose axis and direction turn by at most [`CHUNK_TURN_RAD`]. For
+/// each sample near a piece, the chord of the piece's straight line (start to end, mean axis)
+/// inside the cone is found in closed form (a quadratic in the line parameter), and the rate
+/// is integrated over that chord by 3-point Gauss–Legendre at the exact interpolated poses. On
+/// a plane under a constant axis the rate along the chord is a parabola, so the quadrature is
+/// exact there. Pieces moving nearly along their axis fall back to midpoint time steps of
 /// `time_step`, which also bounds the work ([`MAX_TIME_SAMPLES`]).
 pub fn deposit(
     path: &ToolPath,
@@ -111,6 +112,37 @@ pub fn deposit(
     speed: Real,
     time_step: Real,
 ) -> Result<Vec<Real>, SprayError> {
+    let step_length = check_time_samples(path, speed, time_step)?;
+    let mut thickness = vec![0.0; samples.positions.len()];
+    let varying = path.has_varying_speed();
+    let move_speed = |i: usize| if varying { path.move_speed(i) } else { speed };
+    for_each_piece(
+        path,
+        model,
+        |i| varying && path.move_speed(i) != path.move_speed(i - 1),
+        |range, cumulative| {
+            let speed = move_speed(range.start + 1);
+            deposit_piece(
+                &path.poses[range],
+                cumulative,
+                samples,
+                grid,
+                model,
+                step_length,
+                &mut |i, v| thickness[i] += v / speed,
+            );
+        },
+    );
+    Ok(thickness)
+}
+
+/// Refuses a time step that would cut the trajectory into more than [`MAX_TIME_SAMPLES`];
+/// returns the step length `speed·time_step`.
+pub(super) fn check_time_samples(
+    path: &ToolPath,
+    speed: Real,
+    time_step: Real,
+) -> Result<Real, SprayError> {
     let step_length = speed * time_step;
     let count = time_sample_count(path, step_length);
     if count > MAX_TIME_SAMPLES {
@@ -119,7 +151,19 @@ pub fn deposit(
             samples: count,
         });
     }
-    let mut thickness = vec![0.0; samples.positions.len()];
+    Ok(step_length)
+}
+
+/// Cuts the gun-on moves of `path` into pieces of at most [`CHUNK_RADIUS_RATIO`]·R whose axis
+/// and travel turn by at most [`CHUNK_TURN_RAD`], also before every move `k` (the move that
+/// arrives at pose `k`) where `break_before(k)` holds; calls `visit(poses, arc lengths)` for
+/// each piece, the poses given as a range of `path.poses`.
+pub(super) fn for_each_piece(
+    path: &ToolPath,
+    model: &SprayModel,
+    break_before: impl Fn(usize) -> bool,
+    mut visit: impl FnMut(std::ops::Range<usize>, &[Real]),
+) {
     let poses = &path.poses;
     let max_length = CHUNK_RADIUS_RATIO * model.radius;
     let cos_turn = libm::cos(CHUNK_TURN_RAD);
@@ -143,6 +187,7 @@ pub fn deposit(
             let total = cumulative[cumulative.len() - 1] + length;
             if end > start
                 && (total > max_length
+                    || break_before(end + 1)
                     || poses[end + 1].axis.dot(&poses[start].axis) < cos_turn
                     || first_dir.is_some_and(|d| length > 0.0 && step.dot(&d) < cos_turn * length))
             {
@@ -154,19 +199,9 @@ pub fn deposit(
             cumulative.push(total);
             end += 1;
         }
-        deposit_piece(
-            &poses[start..=end],
-            &cumulative,
-            samples,
-            grid,
-            model,
-            speed,
-            step_length,
-            &mut thickness,
-        );
+        visit(start..end + 1, &cumulative);
         j = end;
     }
-    Ok(thickness)
 }
 
 /// Bounding box of the cone at `gun` along `axis`, truncated at the axial reach.
@@ -196,17 +231,17 @@ fn pose_at(poses: &[Pose], cumulative: &[Real], sigma: Real) -> (Point3, Vector3
     (gun, axis)
 }
 
-/// Adds the coating of one piece (`poses`, arc lengths `cumulative` from its start).
-#[allow(clippy::too_many_arguments)]
-fn deposit_piece(
+/// Hands `add(sample, ∫ rate ds)` the coating of one piece (`poses`, arc lengths `cumulative`
+/// from its start) per unit of gun speed: divided by the speed, it is the thickness added.
+/// A sample may be handed more than once.
+pub(super) fn deposit_piece(
     poses: &[Pose],
     cumulative: &[Real],
     samples: &EvaluationSamples,
     grid: &PointGrid,
     model: &SprayModel,
-    speed: Real,
     step_length: Real,
-    thickness: &mut [Real],
+    add: &mut dyn FnMut(usize, Real),
 ) {
     let arc = cumulative[cumulative.len() - 1];
     if arc <= 0.0 {
@@ -225,7 +260,7 @@ fn deposit_piece(
     let ua = u.dot(&mean_axis);
     let c2 = 1.0 - k * ua * ua;
     if line <= 0.0 || c2 < MIN_LATERAL || !mean_axis.iter().all(|c| c.is_finite()) {
-        deposit_stepped(poses, samples, grid, model, speed, step_length, thickness);
+        deposit_stepped(poses, samples, grid, model, step_length, add);
         return;
     }
     let reach = MAX_AXIAL_RATIO * model.standoff;
@@ -269,20 +304,19 @@ fn deposit_piece(
             sum += wt * model.rate(&(q - gun), &axis, &samples.normals[i]);
         }
         if sum > 0.0 {
-            thickness[i] += sum * half * to_arc / speed;
+            add(i, sum * half * to_arc);
         }
     });
 }
 
-/// Midpoint time steps of length `step_length` over every move of a piece.
+/// Midpoint time steps of length `step_length` over every move of a piece (per unit speed).
 fn deposit_stepped(
     poses: &[Pose],
     samples: &EvaluationSamples,
     grid: &PointGrid,
     model: &SprayModel,
-    speed: Real,
     step_length: Real,
-    thickness: &mut [Real],
+    add: &mut dyn FnMut(usize, Real),
 ) {
     for pair in poses.windows(2) {
         let (p0, p1) = (&pair[0], &pair[1]);
@@ -291,7 +325,7 @@ fn deposit_stepped(
             continue;
         }
         let n = (length / step_length).ceil().max(1.0) as usize;
-        let dt = length / (n as Real * speed);
+        let ds = length / n as Real;
         for s in 0..n {
             let tau = (s as Real + 0.5) / n as Real;
             let gun = p0.position + (p1.position - p0.position) * tau;
@@ -301,7 +335,7 @@ fn deposit_stepped(
                 let w = samples.positions[i] - gun;
                 let f = model.rate(&w, &axis, &samples.normals[i]);
                 if f > 0.0 {
-                    thickness[i] += f * dt;
+                    add(i, f * ds);
                 }
             });
         }

@@ -5,7 +5,8 @@
 //! offsets the scan segments by the standoff and joins them with straight or arc
 //! transitions ([`build_trajectory`]), predicts the coating on evaluation samples
 //! ([`sample_faces`], [`deposit`]), measures its quality ([`evaluate_quality`]) and, given
-//! quality limits, searches the largest pass spacing meeting them ([`search_spacing`]).
+//! quality limits, searches the widest pass spacing meeting them ([`search_spacing`]); by
+//! default the gun speed is optimised piece by piece along the passes ([`optimise_speeds`]).
 
 mod deposition;
 mod grid;
@@ -15,6 +16,7 @@ mod quality;
 mod raster;
 mod samples;
 mod search;
+mod speed;
 mod trajectory;
 
 pub use deposition::{
@@ -24,14 +26,21 @@ pub use grid::PointGrid;
 pub use params::{
     QualityLimits, Resolved, SprayError, SprayParams, MAX_PLANES, MAX_SAMPLES, MAX_TIME_SAMPLES,
 };
-pub use plan::{plan_spray, SprayPlan, COARSE_RESOLUTION_RATIO};
+pub use plan::{
+    cycle_time, plan_spray, DirectionTrial, Hotspot, HotspotCause, SprayPlan,
+    COARSE_RESOLUTION_RATIO, MAX_HOTSPOTS, TARGET_TOLERANCE,
+};
 pub use quality::{evaluate_quality, interior_mask, thickness_stats, Quality, ThicknessStats};
 pub use raster::{
     order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass, ARC_BINS, MAX_STRETCH,
 };
 pub use samples::{sample_faces, EvaluationSamples};
 pub use search::{
-    search_spacing, Fidelity, Iteration, Limits, SpacingChoice, COARSE_STEPS, REFINE_ROUNDS,
-    REFINE_STEPS, REFINE_TOLERANCE,
+    ripple, search_spacing, Fidelity, Iteration, Limits, SpacingChoice, COARSE_STEPS,
+    FALLBACK_MARGIN, PREDICTED_WINDOWS, PREDICTION_STEPS, REFINE_STEPS, REFINE_TOLERANCE,
+};
+pub use speed::{
+    optimise_speeds, split_long_moves, SpeedLimits, SpeedPlan, MAX_SWEEPS, MINIMAX_ROUNDS,
+    PIECE_RADIUS_RATIO, SMOOTHING,
 };
 pub use trajectory::{build_trajectory, TrajectoryCounts, ARC_STEP_RAD};

@@ -95,6 +95,16 @@ pub enum SprayError {
         /// Samples it would take.
         samples: usize,
     },
+    /// The nominal speed lies outside the speed limits.
+    #[error("speed {speed} must lie within minSpeed {min} and maxSpeed {max}")]
+    SpeedOutsideLimits {
+        /// The speed given.
+        speed: Real,
+        /// Slowest speed allowed.
+        min: Real,
+        /// Fastest speed allowed.
+        max: Real,
+    },
     /// The tool path could not be built (a bug if it happens).
     #[error(transparent)]
     ToolPath(#[from] crate::toolpath::ToolPathError),
@@ -152,8 +162,24 @@ pub struct SprayParams {
     pub edge_exclusion: Option<Real>,
     /// Quality limits; without them the plan uses `spacing` only.
     pub quality: Option<QualityLimits>,
-    /// Interior mean thickness wanted, file unit: the speed is scaled to give it.
+    /// Interior mean thickness wanted, file unit: the speeds are chosen (or the constant
+    /// speed scaled) to give it, within the speed limits.
     pub target_thickness: Option<Real>,
+    /// Whether the gun speed is optimised piece by piece along the passes (default true).
+    #[serde(default = "default_true")]
+    pub optimise_speed: bool,
+    /// Slowest gun speed the plan may command (default `speed / 2`).
+    pub min_speed: Option<Real>,
+    /// Fastest gun speed the plan may command (default `2·speed`).
+    pub max_speed: Option<Real>,
+    /// Whether to try the pass direction turned by 90° and ±45° too, keeping the best
+    /// quality at the chosen spacing (ties to the shorter cycle time); default false.
+    #[serde(default)]
+    pub best_direction: bool,
+}
+
+fn default_true() -> bool {
+    true
 }
 
 fn default_efficiency() -> Real {
@@ -180,6 +206,10 @@ impl Default for SprayParams {
             edge_exclusion: None,
             quality: None,
             target_thickness: None,
+            optimise_speed: true,
+            min_speed: None,
+            max_speed: None,
+            best_direction: false,
         }
     }
 }
@@ -201,6 +231,8 @@ pub struct Resolved {
     pub edge_exclusion: Real,
     /// The pass direction given, if any (not normalised).
     pub direction: Option<Vector3>,
+    /// Slowest and fastest gun speed.
+    pub speed_limits: (Real, Real),
 }
 
 fn finite(name: &'static str, value: Real) -> Result<Real, SprayError> {
@@ -332,6 +364,28 @@ impl SprayParams {
         if let Some(t) = self.target_thickness {
             positive("targetThickness", t)?;
         }
+        let min_speed = match self.min_speed {
+            Some(v) => positive("minSpeed", v)?,
+            None => self.speed / 2.0,
+        };
+        let max_speed = match self.max_speed {
+            Some(v) => positive("maxSpeed", v)?,
+            None => self.speed * 2.0,
+        };
+        if max_speed < min_speed {
+            return Err(SprayError::OutOfRange {
+                name: "maxSpeed",
+                value: max_speed,
+                range: "at least minSpeed",
+            });
+        }
+        if !(min_speed..=max_speed).contains(&self.speed) {
+            return Err(SprayError::SpeedOutsideLimits {
+                speed: self.speed,
+                min: min_speed,
+                max: max_speed,
+            });
+        }
         let peak_rate = 2.0 * eta * self.flow_rate / (std::f64::consts::PI * radius * radius);
         positive("standoff·tan(coneAngle/2)", radius)?;
         Ok(Resolved {
@@ -342,6 +396,7 @@ impl SprayParams {
             resolution,
             edge_exclusion,
             direction,
+            speed_limits: (min_speed, max_speed),
         })
     }
 

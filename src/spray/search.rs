@@ -1,45 +1,81 @@
-//! Spacing search: the largest pass spacing whose coating meets the quality limits.
+//! Spacing search: the widest pass spacing whose coating meets the quality limits.
 //!
 //! Source: spray patent (Tsinghua, Guan & Chen), step 7: if `E > E_m` or `δ > δ_m`, change
 //! `b` and repeat steps 2–6. The patent does not say how to change `b`.
-//! Input:  spacing bounds, limits, and a function evaluating one spacing at coarse or full
-//!         evaluation resolution.
+//! Input:  spacing bounds, limits, a prediction of the excess over the limits at each spacing
+//!         (the ripple of parallel passes on a plane, [`ripple`]), and a function evaluating one
+//!         spacing at coarse or full evaluation resolution.
 //! Output: the chosen spacing, whether it meets the limits, every spacing tried (with the
 //!         resolution it was evaluated at).
-//! Cost:   at most 2·[`COARSE_STEPS`] + [`REFINE_ROUNDS`]·[`REFINE_STEPS`] evaluations, the
-//!         coarse scan's on the coarse samples (about a quarter as many at twice the
-//!         resolution).
-//! Deviations (no paper): quality is not monotone in `b` (the overlap of neighbouring
-//!         passes swings between ridges and troughs), so bisection could miss the answer:
-//!         a coarse scan of evenly spaced spacings, from the widest down to the first
-//!         feasible one (narrow spacings cost the most), finds the largest feasible one, then
-//!         rounds of finer scans between it and the next coarse spacing push it up (8
-//!         coarse spacings, then up to 4 rounds of 2 that each cut the bracket to a third:
-//!         the answer is within 1/189 of the range below the true largest feasible spacing
-//!         when quality is monotone between the two coarse spacings). The coarse scan may
-//!         run on coarser samples; then the largest coarse-feasible spacing is re-evaluated
-//!         at full resolution (and, if it fails there, the next smaller coarse-feasible
-//!         ones) before refining, and the refinement runs at full resolution, so the chosen
-//!         spacing is the largest meeting the limits at full resolution among those tried
-//!         at full resolution. Refinement stops early once the bracket is at most
-//!         [`REFINE_TOLERANCE`] of the feasible spacing. When no spacing meets the limits,
-//!         the full-resolution one with the smallest `max(E/E_m, δ/δ_m)` is chosen (with a
-//!         coarse scan: the coarse spacing closest to the limits, re-evaluated at full
-//!         resolution).
+//! Cost:   at most 2·[`PREDICTED_WINDOWS`] + [`COARSE_STEPS`] candidates (each confirmed at full
+//!         resolution when it passes coarse), then at most [`REFINE_STEPS`] bisections.
+//! Deviations (no paper): quality is not monotone in `b`: the sum of neighbouring passes
+//!         swings between ridges and troughs, so the feasible spacings form windows (on a plate
+//!         with h 250 mm, α 40°, δ ≤ 0.10 holds below about 80 mm and again from about 104 to
+//!         118 mm). The ripple of a periodic sum of one pass's planar profile
+//!         `(1 − y²/R²)^{3/2}` predicts these windows ([`ripple`]); the search evaluates, from
+//!         the widest down, the top and the predicted best spacing of each predicted window,
+//!         then an even scan of [`COARSE_STEPS`] spacings (for surfaces the prediction misses;
+//!         less those predicted beyond [`PREDICTION_SLACK`] times the limits),
+//!         and stops at the first that meets the limits at full resolution. It then bisects
+//!         between that spacing and the nearest wider spacing tried, which failed, until the
+//!         bracket is at most [`REFINE_TOLERANCE`] of the spacing. When no spacing meets the
+//!         limits, the widest one whose excess `max(E/E_m, δ/δ_m)` is within
+//!         [`FALLBACK_MARGIN`] of the smallest excess seen is chosen (evaluated at full
+//!         resolution), not simply the closest one, which is often the narrowest.
 
 use super::params::SprayError;
 use super::quality::ThicknessStats;
 use crate::math::Real;
 
-/// Spacings of the coarse scan.
+/// Spacings of the even scan.
 pub const COARSE_STEPS: usize = 8;
-/// Rounds of refinement above the largest feasible coarse spacing.
-pub const REFINE_ROUNDS: usize = 4;
-/// Spacings tried per refinement round.
-pub const REFINE_STEPS: usize = 2;
+/// Predicted windows whose candidates are evaluated (widest first).
+pub const PREDICTED_WINDOWS: usize = 4;
+/// Spacings at which the prediction is computed.
+pub const PREDICTION_STEPS: usize = 256;
+/// Most bisections above the feasible spacing.
+pub const REFINE_STEPS: usize = 6;
 /// Refinement stops once the bracket above the feasible spacing is at most this fraction
 /// of it.
-pub const REFINE_TOLERANCE: Real = 0.02;
+pub const REFINE_TOLERANCE: Real = 0.015;
+/// When nothing meets the limits, spacings whose excess is within this fraction of the
+/// smallest excess seen count as equally good, and the widest of them is chosen.
+pub const FALLBACK_MARGIN: Real = 0.1;
+/// Spacings of the even scan predicted to exceed the limits by more than this factor are
+/// not tried (the prediction is of the ripple alone, a lower bound in practice).
+pub const PREDICTION_SLACK: Real = 1.5;
+/// Candidates closer than this fraction of their spacing count as one.
+const SAME_SPACING: Real = 0.005;
+
+/// Ripple of parallel passes at spacing `b = ratio·R` on a plane: `(δ, E / mean)` of the
+/// periodic sum of the single-pass profile `(1 − y²/R²)^{3/2}` (the parabolic footprint
+/// integrated along the pass), sampled at 64 points over one period.
+pub fn ripple(ratio: Real) -> (Real, Real) {
+    const POINTS: usize = 64;
+    if !(ratio.is_finite() && ratio > 0.0) {
+        return (Real::INFINITY, Real::INFINITY);
+    }
+    let reach = (1.0 / ratio).ceil() as i64 + 1;
+    let mut sum = [0.0; POINTS];
+    for (k, s) in sum.iter_mut().enumerate() {
+        let y0 = ratio * k as Real / POINTS as Real;
+        for m in -reach..=reach {
+            let y = y0 - m as Real * ratio;
+            let u = 1.0 - y * y;
+            if u > 0.0 {
+                *s += u * u.sqrt();
+            }
+        }
+    }
+    let mean = sum.iter().sum::<Real>() / POINTS as Real;
+    if mean <= 0.0 {
+        return (Real::INFINITY, Real::INFINITY);
+    }
+    let deviation = sum.iter().fold(0.0_f64, |m, s| m.max((s - mean).abs()));
+    let var = sum.iter().map(|s| (s - mean) * (s - mean)).sum::<Real>() / POINTS as Real;
+    (deviation / mean, var.sqrt() / mean)
+}
 
 /// One spacing tried, with the interior figures it gave.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -57,6 +93,8 @@ pub struct Iteration {
     pub error: Real,
     /// Whether both limits hold.
     pub met: bool,
+    /// Whether the figures are at full resolution (the ones the choice rests on).
+    pub full: bool,
 }
 
 /// The limits `E_m`, `δ_m` (either may be absent).
@@ -103,23 +141,25 @@ pub enum Fidelity {
     Full,
 }
 
-/// Searches `[lo, hi]` for the largest spacing meeting `limits`; `evaluate(b, fidelity)`
-/// returns the interior figures of spacing `b` and the resolution they were computed at;
-/// `coarse_scan` says whether the coarse scan may use [`Fidelity::Coarse`];
-/// `progress(fraction)` is called after each evaluation.
+/// Searches `[lo, hi]` for the widest spacing meeting `limits`; `predict(b)` is the
+/// predicted excess over the limits at `b` (≤ 1: predicted to meet them);
+/// `evaluate(b, fidelity)` returns the interior figures of spacing `b` and the resolution
+/// they were computed at; `coarse_scan` says whether candidates may be screened at
+/// [`Fidelity::Coarse`]; `progress(fraction)` is called after each evaluation.
 ///
-/// The chosen spacing is the largest one meeting the limits at full fidelity among those
-/// evaluated at full fidelity; when none does, the full-fidelity one with the smallest
-/// excess.
+/// The chosen spacing meets the limits at full fidelity; when none does, it is the widest
+/// full-fidelity one within [`FALLBACK_MARGIN`] of the smallest excess.
 pub fn search_spacing(
     lo: Real,
     hi: Real,
     limits: &Limits,
     coarse_scan: bool,
+    predict: &dyn Fn(Real) -> Real,
     evaluate: &mut dyn FnMut(Real, Fidelity) -> Result<(ThicknessStats, Real), SprayError>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<SpacingChoice, SprayError> {
-    let total = (COARSE_STEPS + usize::from(coarse_scan) + REFINE_ROUNDS * REFINE_STEPS) as f64;
+    let candidates = candidates(lo, hi, predict);
+    let total = (candidates.len() + REFINE_STEPS + 1) as f64;
     let mut iterations: Vec<Iteration> = Vec::new();
     let mut run = |b: Real,
                    fidelity: Fidelity,
@@ -134,28 +174,23 @@ pub fn search_spacing(
             std_dev: s.std_dev,
             error: s.error,
             met,
+            full: fidelity == Fidelity::Full || !coarse_scan,
         });
         progress((iterations.len() as f64 / total).min(1.0));
         Ok(met)
     };
-    let coarse: Vec<Real> = if hi > lo {
-        (0..COARSE_STEPS)
-            .map(|i| lo + (hi - lo) * i as Real / (COARSE_STEPS - 1) as Real)
-            .collect()
-    } else {
-        vec![hi]
-    };
-    let scan_fidelity = if coarse_scan {
+    let screen = if coarse_scan {
         Fidelity::Coarse
     } else {
         Fidelity::Full
     };
-    // Descending: the first spacing meeting the limits is the largest, and the narrow
-    // (costly) spacings below it need not be evaluated.
-    let mut best: Option<usize> = None;
-    for i in (0..coarse.len()).rev() {
-        if run(coarse[i], scan_fidelity, &mut iterations)? {
-            best = Some(i);
+    // Widest first: the first candidate meeting the limits at full fidelity is the widest.
+    let mut feasible: Option<Real> = None;
+    for &b in &candidates {
+        if run(b, screen, &mut iterations)?
+            && (!coarse_scan || run(b, Fidelity::Full, &mut iterations)?)
+        {
+            feasible = Some(b);
             break;
         }
     }
@@ -166,60 +201,46 @@ pub fn search_spacing(
             ..Default::default()
         })
     };
-    let scanned = iterations.len();
-    if coarse_scan {
-        // Confirm at full resolution: the largest coarse-feasible spacing and, while that
-        // fails, the smaller coarse spacings in turn (at most COARSE_STEPS evaluations);
-        // when none was coarse-feasible, only the one closest to the limits.
-        let confirm: Vec<usize> = match best {
-            Some(top) => (0..=top).rev().collect(),
-            None => (0..scanned)
-                .min_by(|&a, &b| excess(&iterations[a]).total_cmp(&excess(&iterations[b])))
-                .map(|k| coarse.len() - 1 - k)
-                .into_iter()
-                .collect(),
+    let Some(mut feasible) = feasible else {
+        // The widest spacing within the margin of the smallest excess, at full fidelity.
+        let widest_near_best = |iterations: &[Iteration], full_only: bool| {
+            let seen = iterations.iter().filter(|it| it.full || !full_only);
+            let best = seen.clone().map(excess).fold(Real::INFINITY, Real::min);
+            seen.filter(|it| excess(it) <= best * (1.0 + FALLBACK_MARGIN))
+                .map(|it| it.spacing)
+                .fold(Real::NEG_INFINITY, Real::max)
         };
-        best = None;
-        for i in confirm {
-            if run(coarse[i], Fidelity::Full, &mut iterations)? {
-                best = Some(i);
-                break;
-            }
+        let mut pick = widest_near_best(&iterations, false);
+        if !pick.is_finite() {
+            pick = hi;
         }
-    }
-    let Some(i) = best else {
-        let pick = iterations
-            .iter()
-            .skip(if coarse_scan { scanned } else { 0 })
-            .min_by(|a, b| excess(a).total_cmp(&excess(b)))
-            .map_or(hi, |it| it.spacing);
+        if coarse_scan {
+            run(pick, Fidelity::Full, &mut iterations)?;
+            pick = widest_near_best(&iterations, true);
+        }
         return Ok(SpacingChoice {
             spacing: pick,
             met: false,
             iterations,
         });
     };
-    let mut feasible = coarse[i];
-    if i + 1 < coarse.len() {
-        let mut upper = coarse[i + 1];
-        for _ in 0..REFINE_ROUNDS {
+    // Bisect between the feasible spacing and the nearest wider candidate, which failed.
+    let mut upper = candidates
+        .iter()
+        .copied()
+        .filter(|&b| b > feasible)
+        .fold(Real::INFINITY, Real::min);
+    if upper.is_finite() {
+        for _ in 0..REFINE_STEPS {
             if upper - feasible <= REFINE_TOLERANCE * feasible {
                 break;
             }
-            let step = (upper - feasible) / (REFINE_STEPS + 1) as Real;
-            let mut new_upper = feasible + step;
-            let mut found = None;
-            for m in 1..=REFINE_STEPS {
-                let b = feasible + step * m as Real;
-                if run(b, Fidelity::Full, &mut iterations)? {
-                    found = Some(b);
-                    new_upper = b + step;
-                }
-            }
-            if let Some(b) = found {
+            let b = 0.5 * (feasible + upper);
+            if run(b, Fidelity::Full, &mut iterations)? {
                 feasible = b;
+            } else {
+                upper = b;
             }
-            upper = new_upper;
         }
     }
     Ok(SpacingChoice {
@@ -227,4 +248,63 @@ pub fn search_spacing(
         met: true,
         iterations,
     })
+}
+
+/// Candidate spacings, widest first: the top and the predicted best spacing of each of the
+/// [`PREDICTED_WINDOWS`] widest predicted windows, then an even scan of [`COARSE_STEPS`].
+fn candidates(lo: Real, hi: Real, predict: &dyn Fn(Real) -> Real) -> Vec<Real> {
+    if !(hi > lo) {
+        return vec![hi];
+    }
+    let at = |k: usize| lo + (hi - lo) * k as Real / (PREDICTION_STEPS - 1) as Real;
+    let predicted: Vec<Real> = (0..PREDICTION_STEPS).map(|k| predict(at(k))).collect();
+    let mut list: Vec<Real> = Vec::new();
+    let mut windows = 0;
+    let mut k = PREDICTION_STEPS;
+    // Walk down the spacings, one predicted window at a time.
+    while k > 0 && windows < PREDICTED_WINDOWS {
+        k -= 1;
+        if predicted[k] > 1.0 {
+            continue;
+        }
+        let top = k;
+        let mut best = k;
+        while k > 0 && predicted[k - 1] <= 1.0 {
+            k -= 1;
+            if predicted[k] < predicted[best] {
+                best = k;
+            }
+        }
+        // The window's top lies between its last feasible step and the next, infeasible one.
+        let top_b = if top + 1 < PREDICTION_STEPS {
+            let (f0, f1) = (predicted[top], predicted[top + 1]);
+            let t = if f1 > f0 { (1.0 - f0) / (f1 - f0) } else { 0.0 };
+            at(top) + (at(top + 1) - at(top)) * t.clamp(0.0, 1.0)
+        } else {
+            hi
+        };
+        list.push(top_b);
+        list.push(at(best));
+        windows += 1;
+    }
+    // The even scan, less the spacings whose ripple alone clearly exceeds the limits (speed
+    // along the passes cannot even out the ripple across them); all of it when no window is
+    // predicted.
+    let even: Vec<Real> = (0..COARSE_STEPS)
+        .rev()
+        .map(|i| lo + (hi - lo) * i as Real / (COARSE_STEPS - 1) as Real)
+        .collect();
+    let hopeful: Vec<Real> = even
+        .iter()
+        .copied()
+        .filter(|&b| predict(b) <= PREDICTION_SLACK)
+        .collect();
+    list.extend(if list.is_empty() && hopeful.is_empty() {
+        even
+    } else {
+        hopeful
+    });
+    list.sort_by(|a, b| b.total_cmp(a));
+    list.dedup_by(|b, a| (*a - *b).abs() <= SAME_SPACING * *a);
+    list
 }

@@ -17,14 +17,25 @@ export interface SprayPlanParams {
   transitionAngle: number; efficiency?: number; direction?: [number, number, number];
   rasterAngle?: number; extension?: number; timeStep?: number; resolution?: number;
   edgeExclusion?: number; quality?: SprayQualityLimits; targetThickness?: number;
+  /** Optimise the gun speed piece by piece along the passes (default true). */
+  optimiseSpeed?: boolean;
+  /** Slowest and fastest gun speed the plan may command (defaults speed/2 and 2·speed). */
+  minSpeed?: number; maxSpeed?: number;
+  /** Also try the pass direction turned by 90° and ±45°, keep the best (default false). */
+  bestDirection?: boolean;
 }
+/** One of the worst regions of the interior coating: position (file unit), deviation from
+ *  the interior mean as a fraction (signed), and what lies under it. */
+export interface SprayHotspot { position: [number, number, number]; deviation: number; cause: "edge" | "fold" | "curvature" | "spacing" }
+/** A pass direction tried with bestDirection, at the chosen spacing. */
+export interface SprayDirectionTrial { rasterAngle: number; error: number; stdDev: number; cycleTime: number; chosen: boolean }
 /** Thickness figures (file unit; error = max |T − mean| / mean; area in the unit's square). */
 export interface ThicknessStats { mean: number; stdDev: number; error: number; min: number; max: number; area: number }
 /** Figures over the interior (edgeExclusion from the boundary) and the whole patch;
  *  limitsMet false and a message when no spacing met the quality limits. */
 export interface SprayQuality { interior: ThicknessStats; whole: ThicknessStats; limitsMet: boolean; messages: string[] }
 /** One spacing tried by the search, with its interior figures. */
-export interface SprayIteration { spacing: number; resolution: number; mean: number; stdDev: number; error: number; met: boolean }
+export interface SprayIteration { spacing: number; resolution: number; mean: number; stdDev: number; error: number; met: boolean; full: boolean }
 /** Robot-program options: millimetres per file unit (default 1), program name, moves per file. */
 export interface ExportOptions { mmPerUnit?: number; name?: string; maxMoves?: number; lineEnding?: "lf" | "crlf" }
 "#;
@@ -46,6 +57,10 @@ const PARAM_KEYS: &[&str] = &[
     "edgeExclusion",
     "quality",
     "targetThickness",
+    "optimiseSpeed",
+    "minSpeed",
+    "maxSpeed",
+    "bestDirection",
 ];
 /// Keys of `SprayQualityLimits`.
 const QUALITY_KEYS: &[&str] = &["maxStdDev", "maxError", "minSpacing", "maxSpacing"];
@@ -84,6 +99,14 @@ pub(crate) fn spray_params_from_js(value: &JsValue) -> Result<SprayParams, JsErr
         edge_exclusion: r.optional_number("edgeExclusion")?,
         quality,
         target_thickness: r.optional_number("targetThickness")?,
+        optimise_speed: r
+            .optional_bool("optimiseSpeed")?
+            .unwrap_or(defaults.optimise_speed),
+        min_speed: r.optional_number("minSpeed")?,
+        max_speed: r.optional_number("maxSpeed")?,
+        best_direction: r
+            .optional_bool("bestDirection")?
+            .unwrap_or(defaults.best_direction),
     })
 }
 
@@ -94,6 +117,13 @@ struct QualityView<'a> {
     whole: crate::spray::ThicknessStats,
     limits_met: bool,
     messages: &'a [String],
+}
+
+#[derive(serde::Serialize)]
+struct HotspotView {
+    position: [f64; 3],
+    deviation: f64,
+    cause: crate::spray::HotspotCause,
 }
 
 /// A planned spray job: trajectory, evaluation samples with thickness, quality, iterations.
@@ -116,10 +146,82 @@ impl SprayPlan {
         self.inner.spacing
     }
 
-    /// Gun speed used, file unit per second (scaled when targetThickness was given).
+    /// Nominal gun speed, file unit per second (without speed optimisation: scaled when
+    /// targetThickness was given).
     #[wasm_bindgen(getter)]
     pub fn speed(&self) -> f64 {
         self.inner.speed
+    }
+
+    /// Whether the gun speed was optimised piece by piece.
+    #[wasm_bindgen(getter, js_name = speedOptimised)]
+    pub fn speed_optimised(&self) -> bool {
+        self.inner.speed_optimised
+    }
+
+    /// Slowest gun-on speed commanded, file unit per second.
+    #[wasm_bindgen(getter, js_name = minSpeed)]
+    pub fn min_speed(&self) -> f64 {
+        self.inner.speed_range.0
+    }
+
+    /// Fastest gun-on speed commanded, file unit per second.
+    #[wasm_bindgen(getter, js_name = maxSpeed)]
+    pub fn max_speed(&self) -> f64 {
+        self.inner.speed_range.1
+    }
+
+    /// Speed of the move arriving at each point, file unit per second (the first point's:
+    /// the approach).
+    pub fn speeds(&self) -> Vec<f64> {
+        let path = &self.inner.path;
+        (0..path.poses.len()).map(|k| path.move_speed(k)).collect()
+    }
+
+    /// Time to run the whole trajectory (gun on and links), seconds.
+    #[wasm_bindgen(getter, js_name = cycleTime)]
+    pub fn cycle_time(&self) -> f64 {
+        self.inner.cycle_time
+    }
+
+    /// Length of the gun-on path, file unit.
+    #[wasm_bindgen(getter, js_name = sprayLength)]
+    pub fn spray_length(&self) -> f64 {
+        self.inner.spray_length
+    }
+
+    /// Length of the whole path (gun on and links), file unit.
+    #[wasm_bindgen(getter, js_name = pathLength)]
+    pub fn path_length(&self) -> f64 {
+        self.inner.path_length
+    }
+
+    /// Turn of the pass direction used about the mean normal, radians.
+    #[wasm_bindgen(getter, js_name = rasterAngle)]
+    pub fn raster_angle(&self) -> f64 {
+        self.inner.raster_angle
+    }
+
+    /// The pass directions tried with bestDirection (empty without).
+    #[wasm_bindgen(unchecked_return_type = "SprayDirectionTrial[]")]
+    pub fn directions(&self) -> Result<JsValue, JsError> {
+        Ok(serde_wasm_bindgen::to_value(&self.inner.directions)?)
+    }
+
+    /// The worst regions of the interior coating, worst first.
+    #[wasm_bindgen(unchecked_return_type = "SprayHotspot[]")]
+    pub fn hotspots(&self) -> Result<JsValue, JsError> {
+        let view: Vec<HotspotView> = self
+            .inner
+            .hotspots
+            .iter()
+            .map(|h| HotspotView {
+                position: [h.position.x, h.position.y, h.position.z],
+                deviation: h.deviation,
+                cause: h.cause,
+            })
+            .collect();
+        Ok(serde_wasm_bindgen::to_value(&view)?)
     }
 
     /// Number of passes.
