@@ -35,7 +35,11 @@ fn main() {
     // The page keeps about 100,000 evaluation samples: about 1.3·area/resolution² of them.
     let area = seg.patches[patch].area;
     let radius = 250.0 * mm * 20f64.to_radians().tan();
-    let resolution = (radius / 8.0).max((1.3 * area / 100_000.0).sqrt());
+    let budget: f64 = std::env::var("SAMPLES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(100_000.0);
+    let resolution = (radius / 8.0).max((1.3 * area / budget).sqrt());
     let p = SprayParams {
         resolution: Some(resolution),
         spacing: 100.0 * mm,

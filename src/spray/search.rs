@@ -224,13 +224,18 @@ pub fn search_spacing(
             iterations,
         });
     };
-    // Bisect between the feasible spacing and the nearest wider candidate, which failed.
+    // Bisect between the feasible spacing and the nearest wider candidate, which failed, or
+    // else the nearest wider spacing predicted clearly beyond the limits, or else `hi`.
+    let beyond = (1..=PREDICTION_STEPS)
+        .map(|k| feasible + (hi - feasible) * k as Real / PREDICTION_STEPS as Real)
+        .find(|&b| predict(b) > PREDICTION_SLACK)
+        .unwrap_or(hi);
     let mut upper = candidates
         .iter()
         .copied()
         .filter(|&b| b > feasible)
-        .fold(Real::INFINITY, Real::min);
-    if upper.is_finite() {
+        .fold(beyond, Real::min);
+    if upper > feasible {
         for _ in 0..REFINE_STEPS {
             if upper - feasible <= REFINE_TOLERANCE * feasible {
                 break;

@@ -122,9 +122,11 @@ impl Coating {
 }
 
 /// Splits every gun-on move longer than `max_length` by interpolated poses (position linear,
-/// axis and travel normalised-linear, travel kept perpendicular to the axis).
+/// axis and travel normalised-linear, travel kept perpendicular to the axis); the pieces of a
+/// move keep its speed.
 pub fn split_long_moves(path: &ToolPath, max_length: Real) -> ToolPath {
     let mut poses: Vec<Pose> = Vec::with_capacity(path.poses.len());
+    let mut speeds: Vec<Real> = Vec::new();
     for (k, p) in path.poses.iter().enumerate() {
         if k > 0 && p.kind.process_on() {
             let q = &path.poses[k - 1];
@@ -145,13 +147,19 @@ pub fn split_long_moves(path: &ToolPath, max_length: Real) -> ToolPath {
                     kind: p.kind,
                     pass: p.pass,
                 });
+                if path.has_varying_speed() {
+                    speeds.push(path.move_speed(k));
+                }
             }
         }
         poses.push(*p);
+        if path.has_varying_speed() {
+            speeds.push(path.move_speed(k));
+        }
     }
     ToolPath {
         poses,
-        speeds: Vec::new(),
+        speeds,
         notes: path.notes.clone(),
         ..*path
     }
@@ -332,7 +340,7 @@ impl Problem<'_> {
 /// Chooses the speed of every piece of the gun-on path within `limits` to even out the
 /// interior coating around `target` (default: the interior mean at `v_ref`) on samples about
 /// `resolution` apart; `score` ranks the rounds of the max-deviation step. The returned path
-/// has per-move speeds.
+/// has per-move speeds. The descent starts from the path's own speeds when it has them.
 #[allow(clippy::too_many_arguments)]
 pub fn optimise_speeds(
     path: &ToolPath,
@@ -375,7 +383,23 @@ pub fn optimise_speeds(
         .collect();
     let keep = |i: usize| base[i] > 0.0;
     let (lo, hi) = (v_ref / limits.max, v_ref / limits.min);
-    let mut x = vec![1.0_f64.clamp(lo, hi); pieces];
+    // Start from the path's own speeds when it has them (mean dwell factor of each piece's
+    // moves), else from v_ref.
+    let mut x = vec![0.0; pieces];
+    let mut moves = vec![0usize; pieces];
+    for (k, &j) in piece_of.iter().enumerate() {
+        if j != NO_PIECE {
+            x[j as usize] += v_ref / path.move_speed(k);
+            moves[j as usize] += 1;
+        }
+    }
+    for (xj, &m) in x.iter_mut().zip(&moves) {
+        *xj = if m > 0 && path.has_varying_speed() {
+            (*xj / m as Real).clamp(lo, hi)
+        } else {
+            1.0_f64.clamp(lo, hi)
+        };
+    }
     let start_thickness = coating.thickness(&x, n);
     let aim = match target {
         Some(t) => t,
