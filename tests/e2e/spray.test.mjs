@@ -27,6 +27,8 @@ async function plan(page) {
     || document.getElementById('alert').textContent !== '', count, { timeout: 300_000, polling: 200 });
   await waitForReady(page, 300_000);
   assert.equal(await text(page, '#alert'), '', 'the engine planned without an error');
+  // Plans of many passes open with the path hidden (its legend too): show it.
+  if (!(await page.isChecked('#spray-showPath'))) await page.check('#spray-showPath');
 }
 
 /** The speed legend's end values in mm/s. */
@@ -95,11 +97,13 @@ test('"best of" plans four directions and reports them in a table', async () => 
   const rows = await page.locator('#spray-directions tbody tr').allTextContents();
   assert.equal(rows.length, 4, rows.join(' | '));
   assert.equal(rows.filter((r) => r.includes('✓ used')).length, 1, 'one direction used');
-  for (const r of rows) assert.match(r, /(principal direction|turned by [+−]\d+°)/);
+  const turns = rows.map((r) => r.match(/^(principal \(0°\)|[+−]\d+°)/)?.[1]);
+  assert.deepEqual([...turns].sort(), ['+45°', '+90°', 'principal (0°)', '−45°'].sort(), rows.join(' | '));
   assert.match(await text(page, '#spray-summary'), /the best of 4 directions tried/);
   // The direction used is the one the summary names.
-  const used = rows.find((r) => r.includes('✓ used')).match(/(along the principal direction|turned by [+−]\d+°)/)[1];
-  assert.ok((await text(page, '#spray-summary')).includes(`passes ${used}`), used);
+  const used = turns[rows.findIndex((r) => r.includes('✓ used'))];
+  const named = used.startsWith('principal') ? 'passes along the principal direction' : `passes turned by ${used}`;
+  assert.ok((await text(page, '#spray-summary')).includes(named), named);
   await page.locator('#results-spray').screenshot({ path: join(outputDir, 'e2e-spray-best-of.png') });
   await page.selectOption('#spray-direction', 'typed');
   assert.equal(await page.isDisabled('#spray-rasterAngle'), false);

@@ -16,7 +16,7 @@ const FIELDS = [
   // key, label, unit, default, min, max (exclusive bounds are checked by the core too), group
   { key: 'standoff', label: 'Standoff h', unit: 'mm', value: 250, min: 0, group: 'gun', title: 'Distance from the gun to the surface along the gun axis' },
   { key: 'coneAngle', label: 'Cone angle α', unit: '°', value: 40, min: 0, max: 180, group: 'gun', title: 'Full opening angle of the spray cone' },
-  { key: 'speed', label: 'Nominal gun speed v', unit: 'mm/s', value: 400, min: 0, group: 'speed', title: 'The speed the passes are planned at; with optimisation, where it starts' },
+  { key: 'speed', label: 'Nominal speed v', unit: 'mm/s', value: 400, min: 0, group: 'speed', title: 'The speed the passes are planned at; with optimisation, where it starts' },
   { key: 'minSpeed', label: 'Slowest gun speed', unit: 'mm/s', value: 200, min: 0, group: 'speed', title: 'No move is commanded slower (gun on)' },
   { key: 'maxSpeed', label: 'Fastest gun speed', unit: 'mm/s', value: 800, min: 0, group: 'speed', title: 'No move is commanded faster (gun on)' },
   { key: 'flowRate', label: 'Paint flow Q', unit: 'cm³/min', value: 150, min: 0, group: 'gun' },
@@ -478,6 +478,7 @@ class SprayTool {
       // Exports re-plan with exactly these parameters when the worker lost the plan.
       request.params = { ...request.params, resolution: result.resolution };
       this.#plan = { result, request, unit: shell.state.settings.unit, model: shell.state.model.name };
+      this.#sprayedDiagonal = null;
       this.#drawLayers();
       this.#renderResults();
       // Look at the sprayed side: a patch under a wing is otherwise out of sight.
@@ -580,8 +581,9 @@ class SprayTool {
   }
 
   /**
-   * Worst regions as wire balls (three great circles, radius R/2) around their positions,
-   * `highlight` (an index, or null) in white: whichever way the surface faces, one ring shows.
+   * Worst regions as wire balls (three great circles) around their positions, `highlight`
+   * (an index, or null) in white: whichever way the surface faces, one ring shows. Radius R/2,
+   * or 1/50 of the sprayed area's box diagonal when that is larger, so they show on a wing.
    */
   #drawHotspots(highlight) {
     const viewer = this.#shell.viewer;
@@ -592,7 +594,8 @@ class SprayTool {
       viewer.removeLayer('spray.hotspots');
       return;
     }
-    const r = (request.params.standoff * Math.tan(request.params.coneAngle / 2)) / 2;
+    this.#sprayedDiagonal ??= boxDiagonal(result.samplePositions);
+    const r = Math.max((request.params.standoff * Math.tan(request.params.coneAngle / 2)) / 2, this.#sprayedDiagonal / 50);
     const positions = new Float32Array(spots.length * 3 * RING_SEGMENTS * 6);
     const colors = new Uint8Array(positions.length);
     const base = hexRgb(HOTSPOT_COLOR);
@@ -748,6 +751,7 @@ class SprayTool {
   }
 
   #classShares = [0, 0, 0];
+  #sprayedDiagonal = null; // of the plan on screen, measured once
 
   /** The worst regions, numbered as ringed on the map: deviation from the mean and cause. */
   #renderHotspots() {
@@ -773,7 +777,7 @@ class SprayTool {
       if (d.chosen) row.className = 'chosen';
       const fits = Number.isFinite(d.error);
       const cells = [
-        directionText(d.rasterAngle) + (d.chosen ? ' ✓ used' : ''),
+        shortDirection(d.rasterAngle) + (d.chosen ? ' ✓ used' : ''),
         fits ? `${num(d.error * 100, 3)} %` : 'does not fit',
         fits ? `${num(d.stdDev * um, 3)} µm` : '–',
         fits ? timeText(d.cycleTime) : '–',
@@ -829,6 +833,14 @@ class SprayTool {
         nodes.push(bar, ticks, el('p', 'legend-note', `Bracket: target ${num(v.target, 3)} ± ${num(v.tolerance, 3)} µm. ` +
           `Under ${num(under, 2)} %, in ${num(inside, 3)} %, over ${num(over, 2)} % of the points.`));
       }
+    }
+    const spots = this.#plan?.result.hotspots ?? [];
+    if (v.showHotspots && spots.length) {
+      const li = el('li');
+      li.append(swatch(HOTSPOT_COLOR, 'legend-ring'), `Worst regions (${spots.length}, listed with the figures)`);
+      const list = el('ul', 'legend-list');
+      list.append(li);
+      nodes.push(list);
     }
     const bySpeed = $('spray-pathColors').value === 'speed';
     if (v.showPath && this.#plan && bySpeed) {
@@ -948,11 +960,30 @@ class SprayTool {
   }
 }
 
+/** Diagonal of the bounding box of flat xyz positions (0 when empty). */
+function boxDiagonal(xyz) {
+  const lo = [Infinity, Infinity, Infinity];
+  const hi = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < xyz.length; i += 3) {
+    for (let k = 0; k < 3; k++) {
+      if (xyz[i + k] < lo[k]) lo[k] = xyz[i + k];
+      if (xyz[i + k] > hi[k]) hi[k] = xyz[i + k];
+    }
+  }
+  return xyz.length ? Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) : 0;
+}
+
 /** A turn of the pass direction (rad) in words. */
 function directionText(rad) {
   const deg = (rad * 180) / Math.PI;
   if (Math.abs(deg) < 1e-6) return 'along the principal direction';
   return `turned by ${deg > 0 ? '+' : '−'}${num(Math.abs(deg), 3)}°`;
+}
+
+/** A turn of the pass direction (rad) for a table cell. */
+function shortDirection(rad) {
+  const deg = (rad * 180) / Math.PI;
+  return Math.abs(deg) < 1e-6 ? 'principal (0°)' : `${deg > 0 ? '+' : '−'}${num(Math.abs(deg), 3)}°`;
 }
 
 /** A speed range in mm/s, as one figure when it is one. */
