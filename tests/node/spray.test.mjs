@@ -1,5 +1,6 @@
 // Mesh.planSpray from the built wasm package in Node: shapes of the flat arrays, the quality
-// figures, the spacing search's iterations, errors naming bad parameters, and patchFaces.
+// figures, the spacing search's iterations, the gun speeds, cycle time, lengths, worst
+// regions and directions tried, errors naming bad parameters, and patchFaces.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -83,7 +84,8 @@ test('planSpray on a plate gives consistent flat arrays and quality figures', ()
   assert.equal(q.limitsMet, true);
   const its = plan.iterations();
   assert.equal(its.length, 1);
-  assert.deepEqual(Object.keys(its[0]).sort(), ['error', 'mean', 'met', 'resolution', 'spacing', 'stdDev']);
+  assert.deepEqual(Object.keys(its[0]).sort(), ['error', 'full', 'mean', 'met', 'resolution', 'spacing', 'stdDev']);
+  assert.equal(its[0].full, true, 'without a search the one spacing is at full resolution');
   assert.equal(typeof plan.toCsv(), 'string');
   assert.equal(typeof plan.toJson(), 'string');
   // Exports are in mm: a file in metres scales by mmPerUnit 1000.
@@ -101,7 +103,8 @@ test('planSpray on a plate gives consistent flat arrays and quality figures', ()
 
 test('the spacing search meets a limit and reports every spacing tried', () => {
   const mesh = Mesh.fromStl(plateStl(400, 300, 4, 3));
-  const plan = mesh.planSpray({ ...base, timeStep: 0.05, quality: { maxError: 0.1, minSpacing: 25 } });
+  // Constant speed: with the optimiser on, the widest spacing already meets this limit.
+  const plan = mesh.planSpray({ ...base, optimiseSpeed: false, timeStep: 0.05, quality: { maxError: 0.1, minSpacing: 25 } });
   const its = plan.iterations();
   // At least one coarse spacing, its confirmation and one refinement round of two.
   assert.ok(its.length >= 4, `${its.length} tried`);
@@ -111,6 +114,7 @@ test('the spacing search meets a limit and reports every spacing tried', () => {
   // The choice rests on the full resolution (the finest); the scan may run coarser.
   const res = Math.min(...its.map((it) => it.resolution));
   const full = its.filter((it) => it.resolution === res);
+  assert.deepEqual(its.map((it) => it.full), its.map((it) => it.resolution === res), 'full marks the full-resolution figures');
   assert.ok(full.length > 1);
   assert.ok(full.some((it) => it.spacing === plan.spacing && it.met));
   assert.ok(!full.some((it) => it.met && it.spacing > plan.spacing));
@@ -119,6 +123,113 @@ test('the spacing search meets a limit and reports every spacing tried', () => {
   assert.match(impossible.quality().messages.join(' '), /not met/);
   plan.free();
   impossible.free();
+  mesh.free();
+});
+
+/** Length of the move arriving at each point (0 for the first), from the flat trajectory. */
+function moveLengths(traj) {
+  const n = traj.length / 6;
+  const out = new Float64Array(n);
+  for (let i = 1; i < n; i++) {
+    out[i] = Math.hypot(traj[6 * i] - traj[6 * i - 6], traj[6 * i + 1] - traj[6 * i - 5], traj[6 * i + 2] - traj[6 * i - 4]);
+  }
+  return out;
+}
+
+test('the plan carries a speed per point within the limits, its cycle time, lengths and worst regions', () => {
+  const mesh = Mesh.fromStl(plateStl(400, 300, 8, 6));
+  const limits = { minSpeed: 60, maxSpeed: 180 };
+  const plan = mesh.planSpray({ ...base, ...limits, timeStep: 0.05, quality: { maxError: 0.1, minSpacing: 25 } });
+  assert.equal(plan.speedOptimised, true, 'on by default');
+  const kinds = plan.pointKinds();
+  const speeds = plan.speeds();
+  assert.ok(speeds instanceof Float64Array);
+  assert.equal(speeds.length, kinds.length, 'one speed per trajectory point');
+  assert.ok(speeds.every((v) => Number.isFinite(v) && v > 0));
+  const gunOn = [...speeds].filter((_, i) => i > 0 && kinds[i] <= 3);
+  assert.ok(gunOn.length > 0);
+  const lo = Math.min(...gunOn);
+  const hi = Math.max(...gunOn);
+  assert.equal(plan.minSpeed, lo, 'minSpeed is the slowest gun-on move');
+  assert.equal(plan.maxSpeed, hi, 'maxSpeed is the fastest gun-on move');
+  assert.ok(lo >= limits.minSpeed * (1 - 1e-12) && hi <= limits.maxSpeed * (1 + 1e-12), `${lo}–${hi}`);
+  assert.ok(hi > lo, 'the speed varies along the passes');
+  // Lengths and cycle time against the trajectory itself: Σ|move| and Σ|move| / speed.
+  const lengths = moveLengths(plan.trajectory());
+  let spray = 0;
+  let whole = 0;
+  let time = 0;
+  for (let i = 1; i < kinds.length; i++) {
+    whole += lengths[i];
+    if (kinds[i] <= 3) spray += lengths[i];
+    time += lengths[i] / speeds[i];
+  }
+  assert.ok(Math.abs(plan.pathLength - whole) <= 1e-9 * whole, `${plan.pathLength} vs ${whole}`);
+  assert.ok(Math.abs(plan.sprayLength - spray) <= 1e-9 * spray, `${plan.sprayLength} vs ${spray}`);
+  assert.ok(plan.sprayLength < plan.pathLength);
+  assert.ok(plan.cycleTime > 0);
+  assert.ok(Math.abs(plan.cycleTime - time) <= 1e-6 * time, `cycle ${plan.cycleTime} s vs Σ length/speed ${time} s`);
+  assert.equal(plan.rasterAngle, 0);
+  assert.deepEqual(plan.directions(), [], 'no directions tried without bestDirection');
+  const its = plan.iterations();
+  assert.ok(its.every((it) => typeof it.full === 'boolean'));
+  assert.ok(its.some((it) => it.full && it.spacing === plan.spacing), 'the chosen spacing was confirmed at full resolution');
+  const spots = plan.hotspots();
+  assert.ok(Array.isArray(spots) && spots.length >= 1);
+  for (const h of spots) {
+    assert.deepEqual(Object.keys(h).sort(), ['cause', 'deviation', 'position']);
+    assert.equal(h.position.length, 3);
+    assert.ok(h.position.every(Number.isFinite));
+    assert.ok(h.position[0] >= -1e-9 && h.position[0] <= 400 + 1e-9 && h.position[1] >= -1e-9 && h.position[1] <= 300 + 1e-9);
+    assert.ok(Math.abs(h.position[2]) < 1e-6, 'on the plate');
+    assert.ok(Number.isFinite(h.deviation));
+    assert.ok(['edge', 'fold', 'curvature', 'spacing'].includes(h.cause), h.cause);
+    assert.notEqual(h.cause, 'fold', 'a flat plate has no fold');
+  }
+  for (let k = 1; k < spots.length; k++) assert.ok(Math.abs(spots[k - 1].deviation) >= Math.abs(spots[k].deviation), 'worst first');
+  plan.free();
+
+  // Off: one speed on every gun-on move, the nominal one (no target given).
+  const uniform = mesh.planSpray({ ...base, ...limits, optimiseSpeed: false });
+  assert.equal(uniform.speedOptimised, false);
+  const u = uniform.speeds();
+  const k2 = uniform.pointKinds();
+  assert.equal(u.length, k2.length);
+  assert.ok([...u].every((v, i) => i === 0 || k2[i] > 3 || v === base.speed), 'uniform gun-on speed');
+  assert.equal(uniform.minSpeed, base.speed);
+  assert.equal(uniform.maxSpeed, base.speed);
+  uniform.free();
+  mesh.free();
+});
+
+test('bestDirection reports the four directions tried and uses the chosen one', () => {
+  const mesh = Mesh.fromStl(plateStl(400, 300, 8, 6));
+  const plan = mesh.planSpray({ ...base, bestDirection: true });
+  const trials = plan.directions();
+  assert.equal(trials.length, 4);
+  for (const d of trials) assert.deepEqual(Object.keys(d).sort(), ['chosen', 'cycleTime', 'error', 'rasterAngle', 'stdDev']);
+  const turns = trials.map((d) => Math.round((d.rasterAngle * 180) / Math.PI)).sort((a, b) => a - b);
+  assert.deepEqual(turns, [-45, 0, 45, 90]);
+  const chosen = trials.filter((d) => d.chosen);
+  assert.equal(chosen.length, 1);
+  assert.equal(plan.rasterAngle, chosen[0].rasterAngle);
+  assert.ok(chosen[0].cycleTime > 0);
+  plan.free();
+  mesh.free();
+});
+
+test('a nominal speed outside the speed limits throws an Error naming them', () => {
+  const mesh = Mesh.fromStl(plateStl(400, 300, 4, 3));
+  for (const change of [{ minSpeed: 150 }, { maxSpeed: 50 }, { minSpeed: 120, maxSpeed: 110 }]) {
+    assert.throws(() => mesh.planSpray({ ...base, ...change }),
+      (e) => e instanceof Error && /minSpeed|maxSpeed/.test(e.message) && !/unreachable|RuntimeError/.test(e.message),
+      JSON.stringify(change));
+  }
+  assert.throws(() => mesh.planSpray({ ...base, minSpeed: -1 }), /minSpeed must be positive/);
+  assert.throws(() => mesh.planSpray({ ...base, optimiseSpeed: 'yes' }), /^Error: optimiseSpeed must be true or false/);
+  const plan = mesh.planSpray({ ...base, minSpeed: 100, maxSpeed: 100 });
+  assert.equal(plan.minSpeed, 100);
+  plan.free();
   mesh.free();
 });
 
@@ -173,7 +284,9 @@ test('the TypeScript declarations name the spray API', () => {
   for (const name of ['planSpray(params: SprayPlanParams', 'patchFaces(id: number): Uint32Array',
     'trajectory(): Float64Array', 'pointKinds(): Uint8Array', 'passOf(): Uint32Array',
     'samplePositions(): Float32Array', 'sampleThickness(): Float32Array', 'sampleTriangles(): Uint32Array',
-    'quality(): SprayQuality', 'iterations(): SprayIteration[]', 'toCsv(opts?: ExportOptions): string', 'toJson(opts?: ExportOptions): string',
+    'quality(): SprayQuality', 'iterations(): SprayIteration[]', 'speeds(): Float64Array',
+    'hotspots(): SprayHotspot[]', 'directions(): SprayDirectionTrial[]', 'readonly cycleTime: number',
+    'readonly speedOptimised: boolean', 'readonly minSpeed: number', 'readonly maxSpeed: number', 'toCsv(opts?: ExportOptions): string', 'toJson(opts?: ExportOptions): string',
     'toRapid(opts?: ExportOptions): string[]', 'toKrl(opts?: ExportOptions): string[]',
     'readonly passCount: number', 'export interface SprayPlanParams {']) {
     assert.ok(dts.includes(name), `skinpath.d.ts lacks "${name}"`);

@@ -1,6 +1,7 @@
 // Spray tool (seed 002): plans the gun trajectory over a patch (or the whole mesh), predicts
 // the coating thickness, searches the widest pass spacing that meets the quality limits,
-// draws the path and the thickness heat map, and exports CSV, JSON, ABB RAPID and KUKA KRL.
+// optimises the gun speed along the passes, draws the path (by kind or by speed), the thickness
+// heat map with its worst regions, and exports CSV, JSON, ABB RAPID and KUKA KRL.
 // Process values are typed in a painter's units (mm, mm/s, cm³/min, °, µm) whatever the
 // file's unit; they are converted here, and the worker (worker/spray.js) gets file units.
 import { CancelledError } from '../app/engine.js';
@@ -15,29 +16,43 @@ const FIELDS = [
   // key, label, unit, default, min, max (exclusive bounds are checked by the core too), group
   { key: 'standoff', label: 'Standoff h', unit: 'mm', value: 250, min: 0, group: 'gun', title: 'Distance from the gun to the surface along the gun axis' },
   { key: 'coneAngle', label: 'Cone angle α', unit: '°', value: 40, min: 0, max: 180, group: 'gun', title: 'Full opening angle of the spray cone' },
-  { key: 'speed', label: 'Gun speed v', unit: 'mm/s', value: 400, min: 0, group: 'gun' },
+  { key: 'speed', label: 'Nominal speed v', unit: 'mm/s', value: 400, min: 0, group: 'speed', title: 'The speed the passes are planned at; with optimisation, where it starts' },
+  { key: 'minSpeed', label: 'Slowest gun speed', unit: 'mm/s', value: 200, min: 0, group: 'speed', title: 'No move is commanded slower (gun on)' },
+  { key: 'maxSpeed', label: 'Fastest gun speed', unit: 'mm/s', value: 800, min: 0, group: 'speed', title: 'No move is commanded faster (gun on)' },
   { key: 'flowRate', label: 'Paint flow Q', unit: 'cm³/min', value: 150, min: 0, group: 'gun' },
   { key: 'efficiency', label: 'Transfer efficiency η', unit: '', value: 0.6, min: 0, max: 1, group: 'gun', title: 'Share of the paint that lands on the part (0–1)' },
   { key: 'spacing', label: 'Pass spacing b', unit: 'mm', value: 100, min: 0, group: 'path', title: 'Distance between neighbouring passes; with quality limits, where the search starts' },
   { key: 'transitionAngle', label: 'Arc above fold angle β_T', unit: '°', value: 20, min: 0, max: 180, group: 'path', title: 'Across a fold sharper than this the gun turns on an arc around the edge' },
-  { key: 'rasterAngle', label: 'Pass direction turned by', unit: '°', value: 0, min: -180, max: 180, group: 'path', title: 'Passes run along the longest extent of the patch; this turns them about its mean normal' },
+  { key: 'rasterAngle', label: 'Turned by (typed)', unit: '°', value: 0, min: -180, max: 180, group: 'direction', title: 'Passes run along the longest extent of the patch; this turns them about its mean normal' },
   { key: 'maxError', label: 'Max. error δ_m', unit: '%', value: 15, min: 0, group: 'quality', title: 'Largest allowed |T − mean| / mean inside the patch' },
   { key: 'maxStdDev', label: 'Max. std. deviation E_m', unit: 'µm', value: 5, min: 0, group: 'quality' },
   { key: 'target', label: 'Target thickness', unit: 'µm', value: 40, min: 0, group: 'target' },
   { key: 'tolerance', label: 'Tolerance ±', unit: 'µm', value: 10, min: 0, group: 'target' },
 ];
 const FLAGS = [
+  { key: 'optimiseSpeed', label: 'Optimise gun speed along the passes', value: true, group: 'speed', title: 'Vary the speed of each short piece of pass, within the limits, to flatten the coating' },
   { key: 'search', label: 'Search the widest spacing that meets the limits', value: true, group: 'quality' },
   { key: 'scaleSpeed', label: 'Set the gun speed so the mean reaches the target', value: true, group: 'target' },
   { key: 'showPath', label: 'Path', value: true, group: 'display' },
   { key: 'showAxis', label: 'Gun axis', value: false, group: 'display' },
   { key: 'showHeat', label: 'Thickness', value: true, group: 'display' },
+  { key: 'showHotspots', label: 'Worst regions', value: true, group: 'display' },
+];
+/** Pass directions offered: a turn about the patch's mean normal (°), "best of", or typed. */
+const DIRECTIONS = [
+  { value: 'principal', label: 'principal (0°)', degrees: 0 },
+  { value: 'turn90', label: 'turned by +90°', degrees: 90 },
+  { value: 'turn45', label: 'turned by +45°', degrees: 45 },
+  { value: 'turnMinus45', label: 'turned by −45°', degrees: -45 },
+  { value: 'best', label: 'best of these four', degrees: 0 },
+  { value: 'typed', label: 'typed angle', degrees: null },
 ];
 const DEFAULTS = Object.freeze(Object.fromEntries([
   ...FIELDS.map((f) => [P + f.key, f.value]),
   ...FLAGS.map((f) => [P + f.key, f.value]),
   [`${P}colors`, 'thickness'],
   [`${P}scope`, 'patch'],
+  [`${P}direction`, 'principal'],
 ]));
 
 /** Trajectory point kinds (SprayPlan.pointKinds) and their colours on the path. */
@@ -58,6 +73,20 @@ const CLASSES = [
 ];
 /** Viridis, sampled at 9 stops (van der Walt & Smith, CC0): perceptually even, colour-blind safe. */
 const VIRIDIS = ['#440154', '#472d7b', '#3b528b', '#2c728e', '#21918c', '#28ae80', '#5ec962', '#addc30', '#fde725'];
+/**
+ * Speed scale, sampled from Turbo (Mikhailov 2019, Apache-2.0) at 11 stops: a rainbow of even
+ * lightness steps, distinct from the thickness map's viridis, slow = blue to fast = red.
+ */
+const TURBO = ['#30123b', '#4454c4', '#4490fe', '#1fc8de', '#29efa2', '#7eff55', '#c1f334', '#f1ca3a', '#fe922a', '#ea4f0d', '#7a0403'];
+/** Worst regions on the map: ring colour, and the one the pointer is on in the list. */
+const HOTSPOT_COLOR = '#ff2d95';
+const HOTSPOT_HIGHLIGHT = '#ffffff';
+/** Segments per ring of a worst-region marker. */
+const RING_SEGMENTS = 48;
+/** Words for SprayHotspot.cause. */
+const CAUSES = {
+  edge: 'at the patch edge', fold: 'at a fold', curvature: 'on a tightly curved part', spacing: 'between passes',
+};
 /** About this many evaluation points at most: beyond, the worker coarsens the resolution. */
 const MAX_SAMPLES = 100_000;
 /** About this many deposition time steps at most (see #coreParams). */
@@ -74,6 +103,27 @@ function hexRgb(hex) {
   return [(n >> 16) & 255, (n >> 8) & 255, n & 255];
 }
 
+/** Colour of t in [0, 1] on a scale of hex stops, written to `out[at … at + 2]` (no allocation). */
+function scaleInto(stops, t, out, at) {
+  const x = Math.min(Math.max(Number.isFinite(t) ? t : 0, 0), 1) * (stops.length - 1);
+  const i = Math.min(Math.floor(x), stops.length - 2);
+  const f = x - i;
+  const a = stops[i];
+  const b = stops[i + 1];
+  for (let k = 0; k < 3; k++) out[at + k] = Math.round(a[k] + (b[k] - a[k]) * f);
+}
+
+let turboRgb;
+
+/** Turbo colour of t in [0, 1] (the speed scale) written to `out[at … at + 2]`. */
+export function turboInto(t, out, at) {
+  turboRgb ??= TURBO.map(hexRgb);
+  scaleInto(turboRgb, t, out, at);
+}
+
+/** CSS gradient of a scale's stops, left to right. */
+const gradient = (stops) => `linear-gradient(to right, ${stops.map((c, i) => `${c} ${(100 * i) / (stops.length - 1)}%`).join(', ')})`;
+
 /** Viridis colour of t in [0, 1] as [r, g, b] bytes. */
 export function viridis(t) {
   const out = [0, 0, 0];
@@ -86,22 +136,18 @@ let viridisRgb;
 /** `viridis(t)` written to `out[at … at + 2]`, allocating nothing (for per-vertex loops). */
 export function viridisInto(t, out, at) {
   viridisRgb ??= VIRIDIS.map(hexRgb);
-  const x = Math.min(Math.max(Number.isFinite(t) ? t : 0, 0), 1) * (VIRIDIS.length - 1);
-  const i = Math.min(Math.floor(x), VIRIDIS.length - 2);
-  const f = x - i;
-  const a = viridisRgb[i];
-  const b = viridisRgb[i + 1];
-  for (let k = 0; k < 3; k++) out[at + k] = Math.round(a[k] + (b[k] - a[k]) * f);
+  scaleInto(viridisRgb, t, out, at);
 }
 
 function fieldRow(f, prefix) {
   const title = f.title ? ` title="${f.title}"` : '';
   return `<label class="field"${title}><span>${f.label.replace(/_(\w)/, '<sub>$1</sub>')}</span>` +
-    `<input type="number" name="${f.key}" id="${prefix}${f.key}" step="any" inputmode="decimal" aria-describedby="spray-error">` +
+    `<input type="number" name="${f.key}" id="${prefix}${f.key}" step="any" inputmode="decimal" aria-describedby="${f.group === 'speed' ? 'spray-speed-error' : 'spray-error'}">` +
     `<span class="unit">${f.unit}</span></label>`;
 }
 function flagRow(f, prefix) {
-  return `<label class="check"><input type="checkbox" name="${f.key}" id="${prefix}${f.key}"> ${f.label}</label>`;
+  const title = f.title ? ` title="${f.title}"` : '';
+  return `<label class="check"${title}><input type="checkbox" name="${f.key}" id="${prefix}${f.key}"> ${f.label}</label>`;
 }
 const group = (g) => FIELDS.filter((f) => f.group === g).map((f) => fieldRow(f, 'spray-')).join('') +
   FLAGS.filter((f) => f.group === g).map((f) => flagRow(f, 'spray-')).join('');
@@ -116,7 +162,13 @@ const PANEL = `
       <p class="hint" id="spray-scope-hint">Click a patch in the view or the list to choose it.</p>
     </fieldset>
     <fieldset><legend>Gun and paint</legend>${group('gun')}</fieldset>
-    <fieldset><legend>Passes</legend>${group('path')}</fieldset>
+    <fieldset class="spray-speed"><legend>Gun speed</legend>${group('speed')}
+      <p id="spray-speed-error" class="field-error" aria-live="polite"></p></fieldset>
+    <fieldset><legend>Passes</legend>${group('path')}
+      <label class="field choice" title="Passes run along the longest extent of the patch (principal); “best of” plans all four and keeps the better coating, ties to the shorter cycle time">
+        <span>Pass direction</span><select id="spray-direction" name="direction">
+        ${DIRECTIONS.map((d) => `<option value="${d.value}">${d.label}</option>`).join('')}</select></label>
+      ${group('direction')}</fieldset>
     <fieldset><legend>Quality limits (inside the patch, away from its edge)</legend>${group('quality')}</fieldset>
     <fieldset><legend>Coating target</legend>${group('target')}</fieldset>
     <p id="spray-error" class="field-error" aria-live="polite"></p>
@@ -137,10 +189,24 @@ const RESULTS = `
       </table>
       <p id="spray-verdict" class="verdict"></p>
       <ul id="spray-notes" class="warnings" aria-label="Planner remarks"></ul>
-      <div class="chart-wrap"><svg id="spray-chart" role="img" aria-label="Error and standard deviation against pass spacing"></svg></div>
+      <div id="spray-hotspots-wrap" hidden>
+        <p class="table-caption">Worst regions of the interior (ringed on the map; point at one to find it)</p>
+        <ol id="spray-hotspots" class="hotspot-list"></ol>
+      </div>
+      <div id="spray-directions-wrap" hidden>
+        <table class="quality-table" id="spray-directions">
+          <caption>Pass directions tried at the chosen spacing (interior)</caption>
+          <thead><tr><th scope="col">Direction</th><th scope="col">Error δ</th><th scope="col">Std. dev. E</th><th scope="col">Cycle time</th></tr></thead>
+          <tbody></tbody>
+        </table>
+      </div>
+      <div class="chart-wrap"><svg id="spray-chart" role="img" aria-label="Error and standard deviation against pass spacing"></svg>
+        <p class="chart-key" id="spray-chart-key"></p></div>
       <fieldset class="display-options"><legend>Show</legend>${group('display')}
         <label class="check">Colours <select id="spray-colors" name="colors">
           <option value="thickness">thickness (µm)</option><option value="classes">under / in / over target</option></select></label>
+        <label class="check">Path by <select id="spray-pathColors" name="pathColors">
+          <option value="speed">gun speed</option><option value="kind">kind of move</option></select></label>
       </fieldset>
     </div>
   </section>
@@ -160,7 +226,9 @@ class SprayTool {
   settings = {
     order: 2,
     defaults: DEFAULTS,
-    allowed: { [`${P}colors`]: ['thickness', 'classes'], [`${P}scope`]: ['patch', 'mesh'] },
+    allowed: {
+      [`${P}colors`]: ['thickness', 'classes'], [`${P}scope`]: ['patch', 'mesh'], [`${P}direction`]: DIRECTIONS.map((d) => d.value),
+    },
     hashKeys: () => Object.keys(DEFAULTS),
   };
 
@@ -198,6 +266,7 @@ class SprayTool {
     for (const f of FLAGS) $(`spray-${f.key}`).checked = s[P + f.key];
     for (const radio of this.#form.elements.scope) radio.checked = radio.value === s[`${P}scope`];
     $('spray-colors').value = s[`${P}colors`];
+    $('spray-direction').value = s[`${P}direction`];
     this.#validate();
   }
 
@@ -205,10 +274,18 @@ class SprayTool {
   #read() {
     const values = {};
     let error = null;
+    const direction = $('spray-direction').value || 'principal';
+    // The typed angle counts only when chosen (it stays on screen, greyed, otherwise).
+    $('spray-rasterAngle').disabled = direction !== 'typed';
     for (const f of FIELDS) {
       const el = $(`spray-${f.key}`);
       const v = el.value.trim() === '' ? NaN : Number(el.value);
       let problem = null;
+      if (el.disabled) {
+        el.setAttribute('aria-invalid', 'false');
+        if (Number.isFinite(v) && v >= f.min && v <= f.max) values[f.key] = v;
+        continue;
+      }
       if (!Number.isFinite(v)) problem = `Enter a number for the ${f.label.toLowerCase()}.`;
       else if (f.key === 'rasterAngle' ? v < f.min || v > f.max : v <= f.min || (f.max !== undefined && v > f.max)) {
         problem = f.key === 'rasterAngle'
@@ -220,17 +297,37 @@ class SprayTool {
       if (problem) error ??= problem.replace(/ +\./, '.');
       else values[f.key] = v;
     }
+    // The gun speed limits against each other and the nominal speed (the core refuses the
+    // same, naming minSpeed and maxSpeed; here it is said next to the fields).
+    let speedError = null;
+    const { speed, minSpeed, maxSpeed } = values;
+    if (speed !== undefined && minSpeed !== undefined && maxSpeed !== undefined) {
+      const mark = (...keys) => keys.forEach((k) => $(`spray-${k}`).setAttribute('aria-invalid', 'true'));
+      if (minSpeed > maxSpeed) {
+        speedError = `The slowest gun speed (${num(minSpeed, 4)} mm/s) must not exceed the fastest (${num(maxSpeed, 4)} mm/s).`;
+        mark('minSpeed', 'maxSpeed');
+      } else if (speed < minSpeed || speed > maxSpeed) {
+        speedError = `The nominal gun speed v (${num(speed, 4)} mm/s) must lie between the slowest and the fastest, ` +
+          `${num(minSpeed, 4)}–${num(maxSpeed, 4)} mm/s.`;
+        mark('speed', speed < minSpeed ? 'minSpeed' : 'maxSpeed');
+      }
+    }
     for (const f of FLAGS) values[f.key] = $(`spray-${f.key}`).checked;
     values.scope = this.#form.elements.scope.value || 'patch';
     values.colors = $('spray-colors').value;
-    return error ? { error, values } : { values };
+    values.direction = direction;
+    const out = { values };
+    if (error) out.error = error;
+    if (speedError) out.speedError = speedError;
+    return out;
   }
 
   #validate() {
     const result = this.#read();
     const noTarget = result.values.scope === 'patch' && this.#target === null;
     $('spray-error').textContent = result.error ?? '';
-    $('spray-plan-button').disabled = Boolean(result.error) || !this.#shell.state.model || noTarget;
+    $('spray-speed-error').textContent = result.speedError ?? '';
+    $('spray-plan-button').disabled = Boolean(result.error || result.speedError) || !this.#shell.state.model || noTarget;
     return result;
   }
 
@@ -249,15 +346,20 @@ class SprayTool {
   #coreParams(v, areaFileUnits) {
     const mm = this.#shell.mmPerUnit;
     const rad = (deg) => (deg * Math.PI) / 180;
+    const turn = v.direction === 'typed' ? v.rasterAngle : DIRECTIONS.find((d) => d.value === v.direction)?.degrees ?? 0;
     const params = {
       spacing: v.spacing / mm,
       standoff: v.standoff / mm,
       speed: v.speed / mm,
+      minSpeed: v.minSpeed / mm,
+      maxSpeed: v.maxSpeed / mm,
+      optimiseSpeed: v.optimiseSpeed,
+      bestDirection: v.direction === 'best',
       flowRate: (v.flowRate * 1000) / 60 / mm ** 3,
       coneAngle: rad(v.coneAngle),
       transitionAngle: rad(v.transitionAngle),
       efficiency: v.efficiency,
-      rasterAngle: rad(v.rasterAngle),
+      rasterAngle: rad(turn),
     };
     if (v.search) params.quality = { maxStdDev: v.maxStdDev / 1000 / mm, maxError: v.maxError / 100 };
     if (v.scaleSpeed) params.targetThickness = v.target / 1000 / mm;
@@ -340,7 +442,7 @@ class SprayTool {
 
   #planRequest() {
     const read = this.#validate();
-    if (read.error) return null;
+    if (read.error || read.speedError) return null;
     const shell = this.#shell;
     const v = read.values;
     const patchId = v.scope === 'patch' ? this.#target : null;
@@ -371,9 +473,12 @@ class SprayTool {
       // Hundreds of passes would hide the heat map under their lines: start with the path
       // off then (for this plan only; the saved setting is the user's).
       if (result.passCount > MAX_PASSES_SHOWN) $('spray-showPath').checked = false;
+      // Optimised speeds are the news of the plan: the path opens coloured by them.
+      $('spray-pathColors').value = result.speedOptimised ? 'speed' : 'kind';
       // Exports re-plan with exactly these parameters when the worker lost the plan.
       request.params = { ...request.params, resolution: result.resolution };
       this.#plan = { result, request, unit: shell.state.settings.unit, model: shell.state.model.name };
+      this.#sprayedDiagonal = null;
       this.#drawLayers();
       this.#renderResults();
       // Look at the sprayed side: a patch under a wing is otherwise out of sight.
@@ -386,7 +491,7 @@ class SprayTool {
 
   #clearPlan(message) {
     this.#plan = null;
-    for (const layer of ['path', 'links', 'axis', 'heat']) this.#shell.viewer?.removeLayer(`spray.${layer}`);
+    for (const layer of ['path', 'links', 'axis', 'heat', 'hotspots']) this.#shell.viewer?.removeLayer(`spray.${layer}`);
     if (this.#results) {
       $('spray-figures').hidden = true;
       $('spray-summary').textContent = message ?? 'No plan yet: choose a patch and press Plan spray.';
@@ -409,8 +514,42 @@ class SprayTool {
     const { result, request } = this.#plan;
     const { trajectory, kinds } = result;
     const n = kinds.length;
-    // Segments between consecutive points take the kind of the point they move to (as a
-    // robot move does): moves to link points have the gun off and are dashed.
+    this.#drawPath();
+    // Gun axis: from the gun along the axis, one standoff long (ends on the surface).
+    const every = Math.max(1, Math.ceil(n / MAX_TICKS));
+    const ticks = [];
+    const h = request.params.standoff;
+    for (let i = 0; i < n; i += every) {
+      if (kinds[i] === LINK) continue;
+      const o = 6 * i;
+      ticks.push(trajectory[o], trajectory[o + 1], trajectory[o + 2],
+        trajectory[o] + h * trajectory[o + 3], trajectory[o + 1] + h * trajectory[o + 4], trajectory[o + 2] + h * trajectory[o + 5]);
+    }
+    viewer.setLayer('spray.axis', { kind: 'lines', positions: Float32Array.from(ticks), color: '#8a6d00' });
+    this.#drawHeat();
+    this.#drawHotspots(null);
+    this.#showLayers(this.#shell.activeTool === this);
+  }
+
+  /** Speed range of the colour scale, file unit/s: the commanded one (a point when uniform). */
+  #speedRange() {
+    const { result } = this.#plan;
+    return { lo: result.minSpeed, hi: result.maxSpeed };
+  }
+
+  /**
+   * The path's gun-on moves coloured by kind or by speed, the links grey and dashed.
+   * Segments between consecutive points take the kind and speed of the point they move to
+   * (as a robot move does): moves to link points have the gun off.
+   */
+  #drawPath() {
+    const viewer = this.#shell.viewer;
+    const { result, request } = this.#plan;
+    const { trajectory, kinds, speeds } = result;
+    const n = kinds.length;
+    const bySpeed = $('spray-pathColors').value === 'speed' && speeds.length === n;
+    const { lo, hi } = this.#speedRange();
+    const rgbSpeed = [0, 0, 0];
     let on = 0;
     let off = 0;
     const isOff = (i) => !(kinds[i + 1] <= EXTENSION);
@@ -426,25 +565,61 @@ class SprayTool {
         linkPos.set(p, 6 * b++);
       } else {
         pathPos.set(p, 6 * a);
-        const c = rgb[kinds[i + 1]] ?? rgb[0];
-        pathCol.set([...c, ...c], 6 * a++);
+        let c = rgb[kinds[i + 1]] ?? rgb[0];
+        if (bySpeed) {
+          turboInto(hi > lo * (1 + 1e-9) ? (speeds[i + 1] - lo) / (hi - lo) : 0.5, rgbSpeed, 0);
+          c = rgbSpeed;
+        }
+        pathCol.set(c, 6 * a);
+        pathCol.set(c, 6 * a + 3);
+        a++;
       }
     }
     viewer.setLayer('spray.path', { kind: 'lines', positions: pathPos, colors: pathCol });
     viewer.setLayer('spray.links', { kind: 'lines', positions: linkPos, color: KINDS[LINK].color, dashed: true,
       dashSize: request.params.spacing / 4 });
-    // Gun axis: from the gun along the axis, one standoff long (ends on the surface).
-    const every = Math.max(1, Math.ceil(n / MAX_TICKS));
-    const ticks = [];
-    const h = request.params.standoff;
-    for (let i = 0; i < n; i += every) {
-      if (kinds[i] === LINK) continue;
-      const o = 6 * i;
-      ticks.push(trajectory[o], trajectory[o + 1], trajectory[o + 2],
-        trajectory[o] + h * trajectory[o + 3], trajectory[o + 1] + h * trajectory[o + 4], trajectory[o + 2] + h * trajectory[o + 5]);
+  }
+
+  /**
+   * Worst regions as wire balls (three great circles) around their positions, `highlight`
+   * (an index, or null) in white: whichever way the surface faces, one ring shows. Radius R/2,
+   * or 1/50 of the sprayed area's box diagonal when that is larger, so they show on a wing.
+   */
+  #drawHotspots(highlight) {
+    const viewer = this.#shell.viewer;
+    const { result, request } = this.#plan;
+    const spots = result.hotspots ?? [];
+    if (!viewer) return;
+    if (spots.length === 0) {
+      viewer.removeLayer('spray.hotspots');
+      return;
     }
-    viewer.setLayer('spray.axis', { kind: 'lines', positions: Float32Array.from(ticks), color: '#8a6d00' });
-    this.#drawHeat();
+    this.#sprayedDiagonal ??= boxDiagonal(result.samplePositions);
+    const r = Math.max((request.params.standoff * Math.tan(request.params.coneAngle / 2)) / 2, this.#sprayedDiagonal / 50);
+    const positions = new Float32Array(spots.length * 3 * RING_SEGMENTS * 6);
+    const colors = new Uint8Array(positions.length);
+    const base = hexRgb(HOTSPOT_COLOR);
+    const lit = hexRgb(HOTSPOT_HIGHLIGHT);
+    let o = 0;
+    spots.forEach((spot, k) => {
+      const [x, y, z] = spot.position;
+      const c = k === highlight ? lit : base;
+      const scale = k === highlight ? 1.4 : 1;
+      for (let axis = 0; axis < 3; axis++) {
+        for (let j = 0; j < RING_SEGMENTS; j++) {
+          for (const q of [j, j + 1]) {
+            const t = (2 * Math.PI * q) / RING_SEGMENTS;
+            const u = r * scale * Math.cos(t);
+            const w = r * scale * Math.sin(t);
+            const d = axis === 0 ? [0, u, w] : axis === 1 ? [u, 0, w] : [u, w, 0];
+            positions.set([x + d[0], y + d[1], z + d[2]], o);
+            colors.set(c, o);
+            o += 3;
+          }
+        }
+      }
+    });
+    viewer.setLayer('spray.hotspots', { kind: 'lines', positions, colors });
     this.#showLayers(this.#shell.activeTool === this);
   }
 
@@ -483,6 +658,7 @@ class SprayTool {
     viewer.setLayerVisible('spray.links', visible && v.showPath);
     viewer.setLayerVisible('spray.axis', visible && v.showAxis);
     viewer.setLayerVisible('spray.heat', visible && v.showHeat);
+    viewer.setLayerVisible('spray.hotspots', visible && v.showHotspots);
   }
 
   // ---------------------------------------------------------------- figures
@@ -494,17 +670,18 @@ class SprayTool {
     const mm = shell.mmPerUnit;
     const um = this.#umPerUnit;
     const what = request.patchId === null ? 'Whole mesh' : `Patch ${request.patchId}`;
-    let length = 0;
-    const tr = result.trajectory;
-    for (let i = 1; i < result.kinds.length; i++) {
-      length += Math.hypot(tr[6 * i] - tr[6 * i - 6], tr[6 * i + 1] - tr[6 * i - 5], tr[6 * i + 2] - tr[6 * i - 4]);
-    }
-    const lengthMm = length * mm;
-    const speedMm = result.speed * mm;
-    const seconds = lengthMm / speedMm;
+    const asked = request.values;
+    const speedText = result.speedOptimised
+      ? `gun speed optimised along the passes, ${speedRangeText(result.minSpeed * mm, result.maxSpeed * mm)} commanded ` +
+        `(limits ${num(asked.minSpeed, 4)}–${num(asked.maxSpeed, 4)} mm/s)`
+      : `gun at ${speedRangeText(result.minSpeed * mm, result.maxSpeed * mm)}` +
+        (asked.scaleSpeed && request.params.targetThickness ? ' (set for the target)' : '');
+    const best = result.directions.length > 0;
+    const direction = `passes ${directionText(result.rasterAngle)}` +
+      (best ? ` (the best of ${result.directions.length} directions tried, see the table)` : '');
     $('spray-summary').textContent = `${what}: ${integer.format(result.passCount)} passes ${num(result.spacing * mm, 3)} mm apart, ` +
-      `gun at ${num(speedMm, 3)} mm/s` + (v.scaleSpeed && request.params.targetThickness ? ' (set for the target)' : '') +
-      `; path ${num(lengthMm / 1000, 3)} m, about ${timeText(seconds)} at that speed. ` +
+      `${direction}; ${speedText}. Cycle time ${timeText(result.cycleTime)}: spray path ${num((result.sprayLength * mm) / 1000, 3)} m, ` +
+      `whole path ${num((result.pathLength * mm) / 1000, 3)} m with the links. ` +
       (result.passCount > MAX_PASSES_SHOWN && !v.showPath ? 'The path is hidden so the thickness shows: tick Path below. ' : '') +
       `Thickness evaluated every ${num(result.resolution * mm, 3)} mm` +
       (result.coarsened ? ' (coarsened on this large patch to keep planning quick).' : '.');
@@ -526,21 +703,36 @@ class SprayTool {
       return row;
     }));
     const verdict = $('spray-verdict');
-    const chosen = result.iterations.find((it) => Math.abs(it.spacing - result.spacing) <= 1e-9 * result.spacing);
+    const messages = q.messages ?? [];
     if (request.params.quality) {
-      const met = q.limitsMet ?? (chosen ? chosen.met : q.interior.error <= request.params.quality.maxError && q.interior.stdDev <= request.params.quality.maxStdDev);
+      const met = q.limitsMet;
+      const limits = `δ ≤ ${num(asked.maxError, 3)} %, E ≤ ${num(asked.maxStdDev, 3)} µm`;
       verdict.className = `verdict ${met ? 'ok' : 'bad'}`;
-      verdict.textContent = met
-        ? `Meets the limits (δ ≤ ${num(v.maxError, 3)} %, E ≤ ${num(v.maxStdDev, 3)} µm) at the widest spacing found.`
-        : `No spacing tried meets the limits (δ ≤ ${num(v.maxError, 3)} %, E ≤ ${num(v.maxStdDev, 3)} µm); this is the best one. Try a smaller cone angle, a larger standoff or looser limits.`;
+      if (met) {
+        verdict.textContent = `Meets the limits (${limits}) at the widest spacing found: δ ${num(q.interior.error * 100, 3)} %, ` +
+          `E ${num(q.interior.stdDev * um, 3)} µm inside the patch.`;
+      } else {
+        // Which limit fails, in the painter's units (the core's message has file units).
+        const failing = [];
+        if (q.interior.error > request.params.quality.maxError) {
+          failing.push(`error δ is ${num(q.interior.error * 100, 3)} % (limit ${num(asked.maxError, 3)} %)`);
+        }
+        if (q.interior.stdDev > request.params.quality.maxStdDev) {
+          failing.push(`std. deviation E is ${num(q.interior.stdDev * um, 3)} µm (limit ${num(asked.maxStdDev, 3)} µm)`);
+        }
+        const margin = messages.map((m) => /within (\d+(?:\.\d+)?) % of the best/.exec(m)).find(Boolean);
+        verdict.textContent = `Limits not met (${limits}): no spacing tried meets them. Here ${failing.join(' and ') || 'a limit fails'}. ` +
+          `This plan uses ${num(result.spacing * mm, 3)} mm, the widest spacing` +
+          (margin ? ` within ${margin[1]} % of the best figures seen.` : ' near the best figures seen.');
+      }
     } else {
       verdict.className = 'verdict';
       verdict.textContent = 'Spacing as typed (no search).';
     }
-    // The planner's own remarks (trimmed concave folds, …); those the page already says in
-    // the painter's units above (limits not met, speed scaled) are left out.
-    const notes = (q.messages ?? []).filter((m) => m && !/^(quality limits not met|speed scaled)/i.test(m));
-    $('spray-notes').replaceChildren(...notes.map((m) => Object.assign(document.createElement('li'), { textContent: m })));
+    $('spray-notes').replaceChildren(...plannerNotes(messages, asked, q.interior.mean * um)
+      .map((m) => Object.assign(document.createElement('li'), { textContent: m })));
+    this.#renderHotspots();
+    this.#renderDirections();
     // Classes against target ± tolerance, share of evaluation points.
     const t = result.sampleThickness;
     const counts = [0, 0, 0];
@@ -550,12 +742,52 @@ class SprayTool {
     }
     this.#classShares = counts.map((c) => (t.length ? (100 * c) / t.length : 0));
     renderChart($('spray-chart'), result.iterations, result.spacing, request.params.quality, mm, um);
+    const coarse = result.iterations.some((it) => !it.full);
+    $('spray-chart-key').textContent = (coarse ? 'Filled: full resolution (the choice rests on these); hollow: coarse screening. ' : '') +
+      (request.params.quality ? '▲ under a spacing: it meets the limits; dashed: the limits.' : '');
     $('spray-figures').hidden = false;
     for (const b of this.#results.querySelectorAll('[data-format]')) b.disabled = false;
     this.#renderLegend();
   }
 
   #classShares = [0, 0, 0];
+  #sprayedDiagonal = null; // of the plan on screen, measured once
+
+  /** The worst regions, numbered as ringed on the map: deviation from the mean and cause. */
+  #renderHotspots() {
+    const spots = this.#plan.result.hotspots ?? [];
+    $('spray-hotspots').replaceChildren(...spots.map((h, k) => {
+      const li = document.createElement('li');
+      li.dataset.index = String(k);
+      li.tabIndex = 0;
+      li.textContent = `${h.deviation >= 0 ? 'Thick' : 'Thin'} by ${num(Math.abs(h.deviation) * 100, 3)} % ${CAUSES[h.cause] ?? h.cause}`;
+      li.title = `${h.cause}: ${h.deviation >= 0 ? '+' : '−'}${num(Math.abs(h.deviation) * 100, 3)} % from the interior mean`;
+      return li;
+    }));
+    $('spray-hotspots-wrap').hidden = spots.length === 0;
+  }
+
+  /** With "best of": each direction tried at the chosen spacing, the one used marked. */
+  #renderDirections() {
+    const { result } = this.#plan;
+    const um = this.#umPerUnit;
+    const trials = result.directions ?? [];
+    $('spray-directions').tBodies[0].replaceChildren(...trials.map((d) => {
+      const row = document.createElement('tr');
+      if (d.chosen) row.className = 'chosen';
+      const fits = Number.isFinite(d.error);
+      const cells = [
+        shortDirection(d.rasterAngle) + (d.chosen ? ' ✓ used' : ''),
+        fits ? `${num(d.error * 100, 3)} %` : 'does not fit',
+        fits ? `${num(d.stdDev * um, 3)} µm` : '–',
+        fits ? timeText(d.cycleTime) : '–',
+      ];
+      row.append(Object.assign(document.createElement('th'), { scope: 'row', textContent: cells[0] }),
+        ...cells.slice(1).map((c) => Object.assign(document.createElement('td'), { textContent: c })));
+      return row;
+    }));
+    $('spray-directions-wrap').hidden = trials.length === 0;
+  }
 
   /** The legend over the view: the colour scale in µm (or the classes) and the path kinds. */
   #renderLegend() {
@@ -602,7 +834,38 @@ class SprayTool {
           `Under ${num(under, 2)} %, in ${num(inside, 3)} %, over ${num(over, 2)} % of the points.`));
       }
     }
-    if (v.showPath && this.#plan) {
+    const spots = this.#plan?.result.hotspots ?? [];
+    if (v.showHotspots && spots.length) {
+      const li = el('li');
+      li.append(swatch(HOTSPOT_COLOR, 'legend-ring'), `Worst regions (${spots.length}, listed with the figures)`);
+      const list = el('ul', 'legend-list');
+      list.append(li);
+      nodes.push(list);
+    }
+    const bySpeed = $('spray-pathColors').value === 'speed';
+    if (v.showPath && this.#plan && bySpeed) {
+      const mm = this.#shell.mmPerUnit;
+      const { lo, hi } = this.#speedRange();
+      const asked = this.#plan.request.values;
+      const box = el('div', 'speed-legend');
+      box.id = 'spray-speed-legend';
+      box.append(el('p', 'legend-title', this.#plan.result.speedOptimised ? 'Gun speed, mm/s (optimised)' : 'Gun speed, mm/s'));
+      const bar = el('div', 'legend-bar');
+      bar.style.backgroundImage = hi > lo * (1 + 1e-9) ? gradient(TURBO) : 'none';
+      if (!(hi > lo * (1 + 1e-9))) bar.style.backgroundColor = TURBO[(TURBO.length - 1) / 2];
+      const ticks = el('div', 'legend-ticks');
+      const lowTick = el('span', 'speed-min', num(lo * mm, 3));
+      const highTick = el('span', 'speed-max', num(hi * mm, 3));
+      lowTick.dataset.value = String(lo * mm);
+      highTick.dataset.value = String(hi * mm);
+      ticks.append(lowTick, el('span', '', num(((lo + hi) / 2) * mm, 3)), highTick);
+      const link = el('li');
+      link.append(swatch(KINDS[LINK].color, 'legend-line dashed'), KINDS[LINK].label);
+      const list = el('ul', 'legend-list');
+      list.append(link);
+      box.append(bar, ticks, el('p', 'legend-note', `Commanded on the gun-on moves; limits ${num(asked.minSpeed, 4)}–${num(asked.maxSpeed, 4)} mm/s.`), list);
+      nodes.push(box);
+    } else if (v.showPath && this.#plan) {
       const list = el('ul', 'legend-list kinds');
       for (const k of KINDS) {
         const li = el('li');
@@ -669,19 +932,83 @@ class SprayTool {
     $('spray-defaults-button').addEventListener('click', () => {
       for (const f of FIELDS) this.#s[P + f.key] = f.value;
       for (const f of FLAGS.filter((x) => x.group !== 'display')) this.#s[P + f.key] = f.value;
+      this.#s[`${P}direction`] = DEFAULTS[`${P}direction`];
       persistSettings(this.#s);
       this.#renderForm();
     });
     const results = this.#results;
+    // Pointing at (or tabbing to) a worst region in the list lights its ring on the map.
+    const list = $('spray-hotspots');
+    const light = (event) => {
+      const li = event.target.closest?.('li[data-index]');
+      if (this.#plan && li) this.#drawHotspots(Number(li.dataset.index));
+    };
+    const unlight = () => this.#plan && this.#drawHotspots(null);
+    list.addEventListener('pointerover', light);
+    list.addEventListener('focusin', light);
+    list.addEventListener('pointerleave', unlight);
+    list.addEventListener('focusout', unlight);
     results.addEventListener('change', (event) => {
       this.#save();
       if (!this.#plan) return;
       if (event.target.id === 'spray-colors') this.#drawHeat();
+      if (event.target.id === 'spray-pathColors') this.#drawPath();
       this.#showLayers(true);
       this.#renderLegend();
     });
     for (const b of results.querySelectorAll('[data-format]')) b.addEventListener('click', () => this.#export(b.dataset.format));
   }
+}
+
+/** Diagonal of the bounding box of flat xyz positions (0 when empty). */
+function boxDiagonal(xyz) {
+  const lo = [Infinity, Infinity, Infinity];
+  const hi = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < xyz.length; i += 3) {
+    for (let k = 0; k < 3; k++) {
+      if (xyz[i + k] < lo[k]) lo[k] = xyz[i + k];
+      if (xyz[i + k] > hi[k]) hi[k] = xyz[i + k];
+    }
+  }
+  return xyz.length ? Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) : 0;
+}
+
+/** A turn of the pass direction (rad) in words. */
+function directionText(rad) {
+  const deg = (rad * 180) / Math.PI;
+  if (Math.abs(deg) < 1e-6) return 'along the principal direction';
+  return `turned by ${deg > 0 ? '+' : '−'}${num(Math.abs(deg), 3)}°`;
+}
+
+/** A turn of the pass direction (rad) for a table cell. */
+function shortDirection(rad) {
+  const deg = (rad * 180) / Math.PI;
+  return Math.abs(deg) < 1e-6 ? 'principal (0°)' : `${deg > 0 ? '+' : '−'}${num(Math.abs(deg), 3)}°`;
+}
+
+/** A speed range in mm/s, as one figure when it is one. */
+function speedRangeText(lo, hi) {
+  return Math.abs(hi - lo) <= 1e-6 * hi ? `${num(lo, 4)} mm/s` : `${num(lo, 4)}–${num(hi, 4)} mm/s`;
+}
+
+/**
+ * The planner's remarks for the results area: the failing limits are said in the verdict;
+ * a target out of reach is said in the painter's units with the flow rate that would reach
+ * it; the worst regions and what would help are shown as they come, capitalised.
+ */
+function plannerNotes(messages, asked, meanUm) {
+  const out = [];
+  for (const m of messages) {
+    if (!m || /^(quality limits not met|speed scaled)/i.test(m)) continue;
+    if (/^targetThickness .*not reached within the speed limits/.test(m) && meanUm > 0) {
+      out.push(`The target ${num(asked.target, 3)} µm is not reached within the gun speed limits ` +
+        `${num(asked.minSpeed, 4)}–${num(asked.maxSpeed, 4)} mm/s: the interior mean is ${num(meanUm, 3)} µm. ` +
+        `A paint flow of ${num((asked.flowRate * asked.target) / meanUm, 3)} cm³/min (now ${num(asked.flowRate, 4)}) would reach it.`);
+      continue;
+    }
+    out.push(m.charAt(0).toUpperCase() + m.slice(1) + (/[.)]$/.test(m) ? '' : '.'));
+  }
+  return out;
 }
 
 function timeText(seconds) {
@@ -692,8 +1019,10 @@ function timeText(seconds) {
 }
 
 /**
- * δ (%) and E (µm) against spacing (mm) from SprayPlan.iterations(): two lines on one chart
- * with two y axes, dashed limit lines, met spacings as filled dots, the chosen one ringed.
+ * δ (%) and E (µm) against spacing (mm) from SprayPlan.iterations(): two y axes, dashed limit
+ * lines; full-resolution figures as filled marks joined by solid lines, the coarse screening
+ * as hollow marks joined by thin dotted lines; a ▲ under each spacing that meets the limits;
+ * the chosen spacing marked.
  */
 function renderChart(svg, iterations, chosen, limits, mm, um) {
   const W = 380;
@@ -717,7 +1046,9 @@ function renderChart(svg, iterations, chosen, limits, mm, um) {
   const x = (v) => m.l + (xMax > xMin ? ((v - xMin) / (xMax - xMin)) * (W - m.l - m.r) : (W - m.l - m.r) / 2);
   const yd = (v) => H - m.b - (v / dMax) * (H - m.t - m.b);
   const ye = (v) => H - m.b - (v / eMax) * (H - m.t - m.b);
-  const line = (ys, f) => ys.map((v, i) => `${i ? 'L' : 'M'}${x(xs[i]).toFixed(1)},${f(v).toFixed(1)}`).join('');
+  // A polyline through the points of one fidelity (coarse or full), in spacing order.
+  const line = (ys, f, full) => ys.map((v, i) => [v, i]).filter(([, i]) => Boolean(its[i].full ?? true) === full)
+    .map(([v, i], k) => `${k ? 'L' : 'M'}${x(xs[i]).toFixed(1)},${f(v).toFixed(1)}`).join('');
   const D = '#0072B2';
   const E = '#D55E00';
   const ticks = (max, f, side, color) => [0, 0.5, 1].map((k) => {
@@ -726,12 +1057,18 @@ function renderChart(svg, iterations, chosen, limits, mm, um) {
     return `<text x="${tx}" y="${f(v) + 3}" text-anchor="${side === 'l' ? 'end' : 'start'}" fill="${color}">${num(v, 2)}</text>`;
   }).join('');
   const xt = [xMin, (xMin + xMax) / 2, xMax].map((v) => `<text x="${x(v)}" y="${H - m.b + 14}" text-anchor="middle">${num(v, 3)}</text>`).join('');
+  let chosenDrawn = false;
   const dots = its.map((it, i) => {
-    const isChosen = Math.abs(it.spacing - chosen) <= 1e-9 * chosen;
-    return `<circle cx="${x(xs[i])}" cy="${yd(ds[i])}" r="3" fill="${it.met ? D : '#fff'}" stroke="${D}"/>` +
-      `<rect x="${x(xs[i]) - 3}" y="${ye(es[i]) - 3}" width="6" height="6" fill="${it.met ? E : '#fff'}" stroke="${E}"/>` +
-      (isChosen ? `<line x1="${x(xs[i])}" x2="${x(xs[i])}" y1="${m.t}" y2="${H - m.b}" stroke="#1d232a" stroke-width="1"/>` +
-        `<text x="${x(xs[i])}" y="${m.t - 3}" text-anchor="middle">chosen</text>` : '');
+    const full = it.full ?? true;
+    const isChosen = !chosenDrawn && full && Math.abs(it.spacing - chosen) <= 1e-9 * chosen;
+    chosenDrawn ||= isChosen;
+    const cls = full ? 'full' : 'coarse';
+    const px = x(xs[i]);
+    return `<circle class="${cls}" cx="${px}" cy="${yd(ds[i])}" r="${full ? 3 : 2.5}" fill="${full ? D : '#fff'}" stroke="${D}"/>` +
+      `<rect class="${cls}" x="${px - 3}" y="${ye(es[i]) - 3}" width="6" height="6" fill="${full ? E : '#fff'}" stroke="${E}"/>` +
+      (limits && it.met ? `<path class="met" d="M${px.toFixed(1)},${H - m.b - 7}l3.5,6h-7z" fill="#009E73"/>` : '') +
+      (isChosen ? `<line x1="${px}" x2="${px}" y1="${m.t}" y2="${H - m.b}" stroke="#1d232a" stroke-width="1"/>` +
+        `<text x="${px}" y="${m.t - 3}" text-anchor="middle">chosen</text>` : '');
   }).join('');
   const limitLines = limits
     ? `<line x1="${m.l}" x2="${W - m.r}" y1="${yd(dLimit)}" y2="${yd(dLimit)}" stroke="${D}" stroke-dasharray="4 3"/>` +
@@ -740,11 +1077,13 @@ function renderChart(svg, iterations, chosen, limits, mm, um) {
   svg.innerHTML = `<g class="axes" stroke="#9aa3ad"><line x1="${m.l}" x2="${W - m.r}" y1="${H - m.b}" y2="${H - m.b}"/>` +
     `<line x1="${m.l}" x2="${m.l}" y1="${m.t}" y2="${H - m.b}"/><line x1="${W - m.r}" x2="${W - m.r}" y1="${m.t}" y2="${H - m.b}"/></g>` +
     `<g class="labels">${ticks(dMax, yd, 'l', D)}${ticks(eMax, ye, 'r', E)}${xt}` +
-    `<text x="${(W) / 2}" y="${H - 4}" text-anchor="middle">pass spacing, mm (filled: meets the limits; dashed: limits)</text>` +
+    `<text x="${(W) / 2}" y="${H - 4}" text-anchor="middle">pass spacing, mm</text>` +
     `<text x="4" y="${m.t + 2}" fill="${D}">δ %</text><text x="${W - 4}" y="${m.t + 2}" text-anchor="end" fill="${E}">E µm</text></g>` +
     limitLines +
-    `<path d="${line(ds, yd)}" fill="none" stroke="${D}" stroke-width="1.5"/>` +
-    `<path d="${line(es, ye)}" fill="none" stroke="${E}" stroke-width="1.5"/>` + dots;
+    `<path d="${line(ds, yd, false)}" fill="none" stroke="${D}" stroke-width="0.8" stroke-dasharray="1.5 2"/>` +
+    `<path d="${line(es, ye, false)}" fill="none" stroke="${E}" stroke-width="0.8" stroke-dasharray="1.5 2"/>` +
+    `<path d="${line(ds, yd, true)}" fill="none" stroke="${D}" stroke-width="1.5"/>` +
+    `<path d="${line(es, ye, true)}" fill="none" stroke="${E}" stroke-width="1.5"/>` + dots;
 }
 
 export const sprayTool = new SprayTool();

@@ -76,6 +76,18 @@ export const ops = {
       spacing: plan.spacing,
       speed: plan.speed,
       passCount: plan.passCount,
+      // Gun speeds (file unit/s): the move arriving at each trajectory point, the commanded
+      // gun-on range, and the times and lengths they give.
+      speeds: plan.speeds(),
+      speedOptimised: plan.speedOptimised,
+      minSpeed: plan.minSpeed,
+      maxSpeed: plan.maxSpeed,
+      cycleTime: plan.cycleTime,
+      sprayLength: plan.sprayLength,
+      pathLength: plan.pathLength,
+      rasterAngle: plan.rasterAngle,
+      directions: plan.directions(),
+      hotspots: plan.hotspots(),
       trajectory: plan.trajectory(),
       kinds: plan.pointKinds(),
       passOf: plan.passOf(),
@@ -89,7 +101,7 @@ export const ops = {
       memoryBytes: ctx.memoryBytes(),
       timings: { planMs: ms },
     };
-    const transfer = ['trajectory', 'kinds', 'passOf', 'samplePositions', 'sampleThickness', 'sampleTriangles']
+    const transfer = ['speeds', 'trajectory', 'kinds', 'passOf', 'samplePositions', 'sampleThickness', 'sampleTriangles']
       .map((k) => result[k].buffer);
     return [result, transfer];
   },
