@@ -61,6 +61,11 @@ fn main() {
         best_direction: best,
         ..SprayParams::default()
     };
+    let mut p = p;
+    if let Some(b) = std::env::var("SPACING").ok().and_then(|v| v.parse::<f64>().ok()) {
+        p.spacing = b * mm;
+        p.quality = None;
+    }
     let t = Instant::now();
     let plan = plan_spray(&mesh, &adjacency, &geometry, &faces, &p, &mut |_, _| {})
         .unwrap_or_else(|e| panic!("plan failed: {e}"));
