@@ -62,7 +62,10 @@ fn main() {
         ..SprayParams::default()
     };
     let mut p = p;
-    if let Some(b) = std::env::var("SPACING").ok().and_then(|v| v.parse::<f64>().ok()) {
+    if let Some(b) = std::env::var("SPACING")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+    {
         p.spacing = b * mm;
         p.quality = None;
     }

@@ -713,7 +713,9 @@ fn a_slowed_pass_is_brought_back_to_the_uniform_speed() {
         base.quality.interior.error
     );
     assert_near!(even.mean, target, 0.01 * target);
-    // The slowed pass runs at the uniform speed again where it coats the interior.
+    // The slowed pass runs at about the uniform speed again where it coats the interior
+    // (within 10 %: its neighbours may share a small part of the correction at no cost to
+    // the thickness).
     let x_mid = 300.0;
     for (k, pose) in out.path.poses.iter().enumerate() {
         if pose.kind == PoseKind::Pass
@@ -721,7 +723,7 @@ fn a_slowed_pass_is_brought_back_to_the_uniform_speed() {
             && (pose.position.x - x_mid).abs() < 100.0
         {
             let v = out.path.move_speed(k);
-            assert!((v - p.speed).abs() <= 0.05 * p.speed, "pose {k} at {v}");
+            assert!((v - p.speed).abs() <= 0.1 * p.speed, "pose {k} at {v}");
         }
     }
 }
