@@ -9,9 +9,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use common::{binary_stl, import, Tri};
 use skinpath::mesh::ImportedMesh;
 use skinpath::spray::{
-    deposit, optimise_speeds, patch_frame, plan_spray, ripple, sample_faces, PointGrid,
-    QualityLimits, SpeedLimits, SprayError, SprayModel, SprayParams, SprayPlan,
-    COARSE_RESOLUTION_RATIO, FALLBACK_MARGIN, REFINE_TOLERANCE,
+    deposit, optimise_speeds, patch_frame, plan_spray, ripple, PointGrid, QualityLimits,
+    SpeedLimits, SprayError, SprayModel, SprayParams, SprayPlan, COARSE_RESOLUTION_RATIO,
+    FALLBACK_MARGIN, REFINE_TOLERANCE,
 };
 use skinpath::toolpath::PoseKind;
 use std::f64::consts::PI;

@@ -258,7 +258,7 @@ pub fn search_spacing(
 /// Candidate spacings, widest first: the top and the predicted best spacing of each of the
 /// [`PREDICTED_WINDOWS`] widest predicted windows, then an even scan of [`COARSE_STEPS`].
 fn candidates(lo: Real, hi: Real, predict: &dyn Fn(Real) -> Real) -> Vec<Real> {
-    if !(hi > lo) {
+    if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
         return vec![hi];
     }
     let at = |k: usize| lo + (hi - lo) * k as Real / (PREDICTION_STEPS - 1) as Real;

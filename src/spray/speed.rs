@@ -201,6 +201,7 @@ fn assign_pieces(path: &ToolPath, max_length: Real) -> (Vec<u32>, usize) {
 }
 
 /// Builds the coating matrix of the pieces at speed `v_ref`.
+#[allow(clippy::too_many_arguments)]
 fn coating_matrix(
     path: &ToolPath,
     piece_of: &[u32],
@@ -535,8 +536,8 @@ mod tests {
         assert_eq!(piece_of[2], 0);
         assert_eq!(piece_of[3], NO_PIECE);
         assert_eq!(count, 1 + 4);
-        for k in 4..8 {
-            assert_eq!(piece_of[k], (k - 3) as u32);
+        for (k, &j) in piece_of.iter().enumerate().skip(4) {
+            assert_eq!(j, (k - 3) as u32);
         }
     }
 }
