@@ -2,6 +2,8 @@
 //! below and every pose must survive (position, tool axis, travel direction, kind, process
 //! state, speed), with the parts of the robot programs called in order.
 
+mod common;
+
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
@@ -366,9 +368,32 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
-/// Checks the executed moves against the path and the rules a controller needs; `speed_tol`
-/// is the rounding of the speeds (mm/s). Returns the number of merged poses.
-fn check_motion(path: &ToolPath, opts: &ExportOptions, exec: &[Exec], speed_tol: f64) -> usize {
+/// How a program rounds speeds: within `abs` mm/s, or with per-move speeds in RAPID to a
+/// step of at most `rel` of the speed and at least 1 mm/s (never below 1 mm/s).
+#[derive(Clone, Copy)]
+struct SpeedRounding {
+    abs: f64,
+    rel: Option<f64>,
+}
+
+impl SpeedRounding {
+    fn accepts(self, got: f64, want: f64) -> bool {
+        match self.rel {
+            Some(_) if want < 1.0 => got == 1.0,
+            Some(rel) => (got - want).abs() <= (0.5f64).max(rel * want / 2.0) + 1e-9,
+            None => (got - want).abs() <= self.abs.max(1e-9 * want),
+        }
+    }
+}
+
+/// Checks the executed moves against the path and the rules a controller needs; `speeds` is
+/// the rounding of the speeds. Returns the number of merged poses.
+fn check_motion(
+    path: &ToolPath,
+    opts: &ExportOptions,
+    exec: &[Exec],
+    speeds: SpeedRounding,
+) -> usize {
     let k = opts.mm_per_unit;
     let clearance = opts.approach_clearance_mm;
     let targets = expected_targets(path, k);
@@ -401,7 +426,7 @@ fn check_motion(path: &ToolPath, opts: &ExportOptions, exec: &[Exec], speed_tol:
             assert!(!e.process_on && e.exact, "approach {m}");
             assert_position(e.position, &back((f, l)), 1.0, m);
             assert_direction(&rz, &path.poses[l].axis, "approach axis", m);
-            assert!((e.speed - link).abs() <= speed_tol.max(1e-9));
+            assert!((e.speed - link).abs() <= 1e-3, "approach at the link speed");
             let next = &exec[m + 1];
             assert!(
                 !next.joint && !next.process_on,
@@ -433,7 +458,7 @@ fn check_motion(path: &ToolPath, opts: &ExportOptions, exec: &[Exec], speed_tol:
                 path.move_speed(f) * k
             };
             assert!(
-                (e.speed - want).abs() <= speed_tol.max(1e-9 * want),
+                speeds.accepts(e.speed, want),
                 "target {j}: speed {} vs {want}",
                 e.speed
             );
@@ -649,7 +674,7 @@ fn check_rapid(path: &ToolPath, opts: &ExportOptions, max_moves: usize) -> usize
     let k = opts.mm_per_unit;
     assert!((speeds["v_process"] - path.speed * k).abs() < 1e-3);
     assert!((speeds["v_link"] - path.link_speed * k).abs() < 1e-3);
-    assert!(speeds.len() <= 2 + 64, "bounded speeddata count");
+    assert!(speeds.len() <= 2 + 100, "bounded speeddata count");
 
     let procs: std::collections::HashMap<&str, &Vec<RapidItem>> = modules
         .iter()
@@ -761,15 +786,15 @@ fn check_rapid(path: &ToolPath, opts: &ExportOptions, max_moves: usize) -> usize
         texts.len(),
         if calls.len() == 1 { 1 } else { calls.len() + 1 }
     );
-    // Per-move speeds are rounded to the resolution the header states.
-    let speed_tol = match texts[0].find("rounded to ") {
-        Some(at) => {
-            let rest = &texts[0][at + "rounded to ".len()..];
-            plain_number(rest.split(' ').next().unwrap()) / 2.0 + 1e-9
-        }
-        None => 1e-3,
-    };
-    check_motion(path, opts, &exec, speed_tol);
+    // Per-move speeds are rounded to the relative step the header states.
+    let header = texts[0].replace("\n  ! ", " ");
+    let key = "rounded to a step of at most ";
+    let rel = header.find(key).map(|at| {
+        let rest = &header[at + key.len()..];
+        plain_number(rest.split_whitespace().next().unwrap()) / 100.0
+    });
+    assert_eq!(rel.is_some(), path.has_varying_speed());
+    check_motion(path, opts, &exec, SpeedRounding { abs: 1e-3, rel });
     calls.len()
 }
 
@@ -1013,7 +1038,16 @@ fn check_krl(path: &ToolPath, opts: &ExportOptions, max_moves: usize) -> (usize,
         }
     }
     assert_eq!(state, Some(false), "the program ends with the process off");
-    check_motion(path, opts, &exec, 1e-6);
+    // $VEL.CP is written to 1e-6 m/s: within half of that.
+    check_motion(
+        path,
+        opts,
+        &exec,
+        SpeedRounding {
+            abs: 5.1e-4,
+            rel: None,
+        },
+    );
     (calls.len(), abcs)
 }
 
@@ -1415,4 +1449,503 @@ fn exports_are_bit_identical_natively_and_in_webassembly() {
     // Regenerate (after reviewing the text) with `cargo test --test toolpath bit_identical`:
     // the failure message prints the new value.
     assert_eq!(fnv1a(&texts), 10155825028999391396, "fingerprint");
+}
+
+// ---------------------------------------------------------------------------------------
+// The planners' own paths: drilling example, spray on a plate and a cylinder panel (both
+// sides), geodesic passes, a long split plan
+// ---------------------------------------------------------------------------------------
+
+/// Both robot programs checked the way a controller reads them, plus the figures a header
+/// reports; returns (merged poses, exact stops inside the path) from the RAPID header.
+fn check_both(what: &str, path: &ToolPath, opts: &ExportOptions, max: usize) -> (usize, usize) {
+    check_rapid(path, opts, max);
+    check_krl(path, opts, max);
+    let main = &to_rapid(path, opts).unwrap()[0];
+    let figure = |after: &str| {
+        main.find(after).map_or(0, |at| {
+            let before = &main[..at];
+            let word = before.trim_end().rsplit(' ').next().unwrap();
+            word.parse::<usize>().unwrap()
+        })
+    };
+    let merged = figure(" zero-length moves removed");
+    let stops = figure(" inside the path");
+    println!(
+        "{what}: {} poses, {merged} zero-length moves merged, {stops} exact stops inside",
+        path.poses.len()
+    );
+    (merged, stops)
+}
+
+/// `v` as the programs write a position: 6 decimals, trailing zeros dropped.
+fn fixed6(v: f64) -> String {
+    let s = format!("{v:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
+fn spray_params(spacing: f64) -> skinpath::spray::SprayParams {
+    skinpath::spray::SprayParams {
+        spacing,
+        standoff: 100.0,
+        speed: 100.0,
+        flow_rate: 1000.0,
+        cone_angle: 2.0 * (0.5f64).atan(),
+        transition_angle: 20f64.to_radians(),
+        efficiency: 1.0,
+        resolution: Some(10.0),
+        ..skinpath::spray::SprayParams::default()
+    }
+}
+
+fn spray_path(m: &skinpath::mesh::ImportedMesh, spacing: f64) -> ToolPath {
+    let faces: Vec<u32> = (0..m.mesh.triangle_count() as u32).collect();
+    skinpath::spray::plan_spray(
+        &m.mesh,
+        &m.adjacency,
+        &m.geometry,
+        &faces,
+        &spray_params(spacing),
+        &mut |_, _| {},
+    )
+    .unwrap()
+    .path
+}
+
+/// Cylinder panel of radius 300 mm over ±40°, 600 mm long; `outside` picks the convex side
+/// (normals outwards), else the concave one (winding reversed).
+fn cylinder_panel(outside: bool) -> skinpath::mesh::ImportedMesh {
+    let mut tris = common::grid(12, 24, false, |u, v| {
+        let a = (-40.0 + 80.0 * v).to_radians();
+        [300.0 * a.cos(), 300.0 * a.sin(), 600.0 * (1.0 - u)]
+    });
+    if !outside {
+        for t in &mut tris {
+            t.swap(1, 2);
+        }
+    }
+    common::import(&common::binary_stl(&tris))
+}
+
+#[test]
+fn the_drilling_example_stops_exactly_at_every_drilled_depth() {
+    use skinpath::drill::{correct_holes, drilling_path, paper_example, CorrectionParams};
+    use skinpath::drill::{MeshIndex, Method, PoseParams};
+    let ex = paper_example();
+    let index = MeshIndex::new(&ex.panel);
+    let p = CorrectionParams {
+        references: ex.references,
+        holes: ex.holes.clone(),
+        method: Method::Coons,
+        tangent_scale: None,
+        extrapolate: false,
+    };
+    let c = correct_holes(&p, Some(&index)).unwrap();
+    let path = drilling_path(&c, &PoseParams::default(), vec![]).unwrap();
+    let holes = c.corrected.len();
+    for max in [5000, 7] {
+        let o = options(1.0, Some(max));
+        let (merged, stops) = check_both("drilling example", &path, &o, max);
+        assert_eq!((merged, stops), (0, holes), "one exact stop per hole");
+        // The depth is written with `fine` / without C_DIS: read back hole by hole.
+        let rapid = to_rapid(&path, &o).unwrap().join("\n");
+        let krl = to_krl(&path, &o).unwrap().join("\n");
+        for hole in &c.corrected {
+            let x = fixed6(hole.x);
+            let at = rapid.find(&format!("MoveL [[{x},")).expect("hole written");
+            let stmt = &rapid[at..at + rapid[at..].find(';').unwrap()];
+            assert!(stmt.contains("fine,"), "{stmt}");
+            let at = krl.find(&format!("LIN {{X {x},")).expect("hole written");
+            let line = krl[at..].lines().next().unwrap();
+            assert!(!line.contains("C_DIS"), "{line}");
+        }
+    }
+}
+
+#[test]
+fn spray_plans_on_a_plate_and_a_cylinder_panel_run_as_planned() {
+    let plate = common::import(&common::binary_stl(&common::grid(8, 4, false, |u, v| {
+        [800.0 * u, 400.0 * v, 0.0]
+    })));
+    let path = spray_path(&plate, 60.0);
+    check_both("spray on a plate", &path, &options(1.0, None), 5000);
+    for outside in [true, false] {
+        let path = spray_path(&cylinder_panel(outside), 50.0);
+        let what = if outside { "convex" } else { "concave" };
+        let (_, _) = check_both(
+            &format!("spray on a cylinder panel, {what} side"),
+            &path,
+            &options(1.0, None),
+            5000,
+        );
+        // In metres too: the tolerances and the clearance follow the unit.
+        let metres = ToolPath {
+            poses: path
+                .poses
+                .iter()
+                .map(|p| Pose {
+                    position: Point3::from(p.position.coords / 1000.0),
+                    ..*p
+                })
+                .collect(),
+            speed: path.speed / 1000.0,
+            link_speed: path.link_speed / 1000.0,
+            speeds: path.speeds.iter().map(|s| s / 1000.0).collect(),
+            notes: vec![],
+        };
+        check_both(
+            "the same in metres",
+            &metres,
+            &options(1000.0, Some(400)),
+            400,
+        );
+    }
+}
+
+#[test]
+fn a_long_split_plan_cuts_where_the_process_is_off_and_every_part_runs_alone() {
+    let plate = common::import(&common::binary_stl(&common::grid(8, 4, false, |u, v| {
+        [800.0 * u, 400.0 * v, 0.0]
+    })));
+    let path = spray_path(&plate, 20.0);
+    let longest_on = path
+        .poses
+        .split(|p| !p.kind.process_on())
+        .map(<[Pose]>::len)
+        .max()
+        .unwrap();
+    let max = longest_on + 5;
+    let parts = check_rapid(&path, &options(1.0, Some(max)), max);
+    check_krl(&path, &options(1.0, Some(max)), max);
+    assert!(parts > 3, "{parts} parts of {} poses", path.poses.len());
+    // Every pass fits a part: every part starts clean (joint move, process off) and ends
+    // with a retract.
+    let krl = krl_files(&path, &options(1.0, Some(max))).unwrap();
+    for f in &krl[1..] {
+        let ptp = f.text.find("\n  PTP {").expect("a PTP in every part");
+        let first_lin = f.text.find("\n  LIN {").unwrap();
+        assert!(ptp < first_lin, "{}: PTP first", f.file_name);
+        assert!(f.text.contains("BAS(#INITMOV,0)") && f.text.contains("$OUT[1] = FALSE"));
+    }
+    let rapid = rapid_files(&path, &options(1.0, Some(max))).unwrap();
+    for f in &rapid[1..] {
+        let text = &f.text;
+        let conf = text.find("ConfL\\Off;").expect("ConfL\\Off in every part");
+        let movej = text.find("MoveJ ").expect("a MoveJ in every part");
+        assert!(conf < movej && movej < text.find("MoveL ").unwrap());
+    }
+}
+
+#[test]
+fn geodesic_passes_on_a_plate_and_a_cylinder_have_no_dwell() {
+    use skinpath::geodesic::{geodesic_distance, DistanceParams, GeodesicSource, PathParams};
+    let plate = common::import(&common::binary_stl(&common::grid(30, 20, false, |u, v| {
+        [150.0 * u, 100.0 * v, 0.0]
+    })));
+    let tube = common::import(&common::binary_stl(&common::cylinder(50.0, 120.0, 48, 24)));
+    let ring: Vec<Point3> = (0..32)
+        .map(|i| {
+            let a = i as f64 / 32.0 * std::f64::consts::TAU;
+            Point3::new(50.0 * a.cos(), 50.0 * a.sin(), 0.0)
+        })
+        .collect();
+    let cases = [
+        (
+            "geodesic passes on a plate",
+            &plate,
+            GeodesicSource::Polyline {
+                points: vec![Point3::new(0.0, 0.0, 0.0), Point3::new(150.0, 0.0, 0.0)],
+                closed: false,
+            },
+        ),
+        (
+            "geodesic passes on a cylinder",
+            &tube,
+            GeodesicSource::Polyline {
+                points: ring,
+                closed: true,
+            },
+        ),
+    ];
+    for (what, m, source) in cases {
+        let field = geodesic_distance(
+            &m.mesh,
+            &m.adjacency,
+            &source,
+            &DistanceParams::default(),
+            &mut |_, _| {},
+        )
+        .unwrap();
+        let params = PathParams {
+            spacing: 10.0,
+            ..PathParams::default()
+        };
+        let path = field.tool_path(&m.mesh, &m.adjacency, &params).unwrap();
+        check_both(what, &path, &options(1.0, None), 5000);
+        check_both(what, &path, &options(1.0, Some(50)), 50);
+    }
+}
+
+#[test]
+fn zero_length_moves_are_merged_keeping_the_later_orientation() {
+    // A pass with a reorientation on the spot at every other pose (the process on), a link
+    // and a pass start at the same position, and a tiny step below the tolerance.
+    let down = -Vector3::z();
+    let tilted = Vector3::new(0.3, 0.0, -1.0).normalize();
+    let mut poses = Vec::new();
+    let pose = |x: f64, axis: Vector3, kind: PoseKind| Pose {
+        position: Point3::new(x, 0.0, 0.0),
+        axis,
+        travel: Vector3::y(),
+        kind,
+        pass: 0,
+    };
+    poses.push(pose(0.0, down, PoseKind::Link));
+    poses.push(pose(0.0, down, PoseKind::Pass)); // zero length, link then pass
+    for i in 1..=10 {
+        let x = i as f64 * 10.0;
+        poses.push(pose(x, down, PoseKind::Pass));
+        poses.push(pose(x, tilted, PoseKind::Pass)); // reorientation on the spot
+    }
+    poses.push(pose(100.0 + 1e-9, down, PoseKind::Pass)); // below the tolerance
+    poses.push(pose(200.0, down, PoseKind::Pass));
+    let path = ToolPath {
+        poses,
+        speed: 100.0,
+        link_speed: 500.0,
+        speeds: Vec::new(),
+        notes: vec![],
+    };
+    let o = options(1.0, None);
+    let (merged, _) = check_both("reorientations on the spot", &path, &o, 5000);
+    assert_eq!(merged, 1 + 10 + 1);
+    assert_eq!(expected_targets(&path, 1.0).len(), path.poses.len() - 12);
+    // CSV and JSON keep every pose: they describe the plan, not a motion.
+    assert_eq!(
+        to_csv(&path, &o).unwrap().lines().count(),
+        path.poses.len() + 1
+    );
+}
+
+#[test]
+fn reversals_get_exact_stops_and_gentle_turns_do_not() {
+    // A zig-zag whose corners turn by 160° (exact) and a bend of 90° (fly-by).
+    let mut poses = Vec::new();
+    let mut push = |x: f64, y: f64| {
+        poses.push(Pose {
+            position: Point3::new(x, y, 0.0),
+            axis: -Vector3::z(),
+            travel: Vector3::x(),
+            kind: PoseKind::Pass,
+            pass: 0,
+        })
+    };
+    let t = 10f64.to_radians().tan() * 100.0; // 100 mm legs, 20° apart: a 160° turn
+    push(0.0, 0.0);
+    push(100.0, 0.0);
+    push(0.0, t);
+    push(100.0, 2.0 * t);
+    push(100.0, 2.0 * t + 100.0); // 90°
+    push(200.0, 2.0 * t + 100.0);
+    let path = ToolPath {
+        poses,
+        speed: 100.0,
+        link_speed: 500.0,
+        speeds: Vec::new(),
+        notes: vec![],
+    };
+    let (_, stops) = check_both("zig-zag", &path, &options(1.0, None), 5000);
+    assert_eq!(stops, 2, "the two 160° corners");
+    let rapid = to_rapid(&path, &options(1.0, None)).unwrap()[0].clone();
+    // Exact: the approach, the two corners and the retract.
+    assert_eq!(rapid.matches("fine,").count(), 4);
+}
+
+#[test]
+fn per_move_speeds_reach_every_export() {
+    let mut path = awkward_path(300, 31, 500.0);
+    // 60 distinct speeds from 100 to 395.59 mm/s, not on whole mm/s.
+    path.speeds = (0..path.poses.len())
+        .map(|i| 100.0 + 5.01 * (i % 60) as f64)
+        .collect();
+    let o = options(1.0, Some(120));
+    // CSV and JSON: the speed of the move arriving at each pose.
+    let csv = to_csv(&path, &o).unwrap();
+    for (i, line) in csv.lines().skip(1).enumerate() {
+        let v = plain_number(line.rsplit(',').next().unwrap());
+        assert!((v - path.speeds[i]).abs() < 1e-6, "pose {i}");
+    }
+    let doc: serde_json::Value = serde_json::from_str(&to_json(&path, &o).unwrap()).unwrap();
+    assert_eq!(doc["varyingSpeed"], true);
+    for (i, p) in doc["poses"].as_array().unwrap().iter().enumerate() {
+        assert_eq!(p["speed"].as_f64(), Some(path.speeds[i]));
+    }
+    // RAPID within 0.5 % (0.5 mm/s here), KRL within 5e-4 mm/s: check_* read the speed
+    // the controller uses for every move back.
+    check_rapid(&path, &o, 120);
+    check_krl(&path, &o, 120);
+    let main = &to_rapid(&path, &o).unwrap()[0];
+    assert!(
+        main.replace("\n  ! ", " ").contains("at most 0.5 % of it"),
+        "{main}"
+    );
+    assert!(main.contains("CONST speeddata v_100 :=") && main.contains("v_396 :="));
+    // KRL writes $VEL.CP only where it changes (check_krl refuses a redundant one).
+    // Many distinct speeds: the step coarsens so at most 100 speeddata are declared, and
+    // slow moves keep their precision (the step is relative).
+    path.speeds = (0..path.poses.len())
+        .map(|i| 1.0 + 7.3 * i as f64)
+        .collect();
+    let texts = to_rapid(&path, &o).unwrap();
+    let declared = texts[0].matches("CONST speeddata v_").count();
+    assert!(declared <= 2 + 100 && declared > 20, "{declared}");
+    assert!(texts[0].contains("CONST speeddata v_1 :=") && texts[0].contains("v_8 :="));
+    check_rapid(&path, &o, 120);
+    // A speed below 1 mm/s still moves, at 1 mm/s.
+    path.speeds = vec![0.2; path.poses.len()];
+    check_rapid(&path, &o, 120);
+    // Twelve decades still fit the bound; a speed beyond any robot is refused, naming it.
+    path.speeds = (0..path.poses.len())
+        .map(|i| 10f64.powi(i as i32 % 13))
+        .collect();
+    check_rapid(&path, &o, 120);
+    path.speeds[7] = 1e13;
+    assert_eq!(option_error(to_rapid(&path, &o)), "speeds");
+}
+
+#[test]
+fn reserved_and_predefined_names_are_refused_case_insensitively() {
+    let path = drilling_path(2);
+    let rapid_only = [
+        "MoveL",
+        "MOVEJ",
+        "movec",
+        "SetDO",
+        "WaitTime",
+        "ConfL",
+        "tool0",
+        "WOBJ0",
+        "load0",
+        "v5",
+        "v1000",
+        "V7000",
+        "vmax",
+        "z0",
+        "Z10",
+        "z200",
+        "fine",
+        "Module",
+        "proc",
+        "if",
+        "Offs",
+        "robtarget",
+        "v_process",
+    ];
+    let krl_only = [
+        "BAS",
+        "bas",
+        "Ini",
+        "TOOL_DATA",
+        "base_data",
+        "LOAD_DATA",
+        "ptp",
+        "Lin",
+        "CIRC",
+        "Def",
+        "END",
+        "SPLINE",
+        "FRAME",
+        "E6POS",
+        "IR_STOPM",
+    ];
+    for name in rapid_only.iter().chain(&krl_only) {
+        let o = ExportOptions {
+            name: name.to_string(),
+            ..ExportOptions::default()
+        };
+        let r = to_rapid(&path, &o);
+        let k = to_krl(&path, &o);
+        if rapid_only.contains(name) {
+            assert_eq!(option_error(r), "name", "{name}");
+        } else {
+            assert!(r.is_ok(), "{name} is not RAPID's");
+        }
+        if krl_only.contains(name) || *name == "if" {
+            assert_eq!(option_error(k), "name", "{name}");
+        } else {
+            assert!(k.is_ok(), "{name} is not KRL's");
+        }
+    }
+    // The data names RAPID declares or calls are checked the same way.
+    for (set, option) in [
+        (0, "rapid.tool"),
+        (1, "rapid.work_object"),
+        (2, "rapid.process_signal"),
+        (3, "rapid.entry"),
+    ] {
+        for bad in ["tool0", "WObj0", "MoveL", "v_link", "z50"] {
+            let mut o = ExportOptions::default();
+            let slot = match set {
+                0 => &mut o.rapid.tool,
+                1 => &mut o.rapid.work_object,
+                2 => &mut o.rapid.process_signal,
+                _ => &mut o.rapid.entry,
+            };
+            *slot = bad.into();
+            assert_eq!(option_error(to_rapid(&path, &o)), option, "{bad}");
+        }
+    }
+    // Zones name the controller's zonedata: predefined names are fine, reserved words not.
+    let mut o = ExportOptions::default();
+    o.rapid.zone_process = "z5".into();
+    o.rapid.zone_link = "fine".into();
+    assert!(to_rapid(&path, &o).is_ok());
+    o.rapid.zone_link = "ENDPROC".into();
+    assert_eq!(option_error(to_rapid(&path, &o)), "rapid.zone_link");
+    // The message names the clash.
+    let o = ExportOptions {
+        name: "tool0".into(),
+        ..ExportOptions::default()
+    };
+    let message = to_rapid(&path, &o).unwrap_err().to_string();
+    assert!(
+        message.contains("tool0") && message.contains("predefined"),
+        "{message}"
+    );
+}
+
+#[test]
+fn configuration_check_and_clearance_are_options() {
+    let path = drilling_path(3);
+    let mut o = ExportOptions::default();
+    let text = to_rapid(&path, &o).unwrap().join("\n");
+    assert!(text.contains("ConfJ\\Off;") && text.contains("ConfL\\Off;"));
+    o.rapid.config_check = true;
+    let text = to_rapid(&path, &o).unwrap().join("\n");
+    assert!(text.contains("ConfJ\\On;") && text.contains("ConfL\\On;"));
+    assert!(!text.contains("\\Off;"));
+    check_rapid(&path, &o, 5000);
+    // Clearance in mm whatever the unit: read back by check_motion.
+    for clearance in [1.0, 12.5, 300.0] {
+        let o = ExportOptions {
+            approach_clearance_mm: clearance,
+            mm_per_unit: 25.4,
+            ..ExportOptions::default()
+        };
+        check_rapid(&path, &o, 5000);
+        check_krl(&path, &o, 1400);
+    }
+    for bad in [0.0, 0.5, -1.0, f64::NAN, f64::INFINITY] {
+        let o = ExportOptions {
+            approach_clearance_mm: bad,
+            ..ExportOptions::default()
+        };
+        assert_eq!(option_error(to_rapid(&path, &o)), "approachClearanceMm");
+        assert_eq!(option_error(to_krl(&path, &o)), "approachClearanceMm");
+    }
 }

@@ -20,9 +20,10 @@
 //!   - the process hook is `SetDO signal,1|0;` before the first move of a different state
 //!     (RAPID runs it as the robot starts rounding the previous target); a part that starts
 //!     clean resets the signal first, and the program ends with the process off;
-//!   - per-move speeds: one `speeddata` `v_<n>` per distinct speed rounded to a resolution
-//!     of 1 mm/s, coarsened (2, 5, 10, 20 … mm/s) until at most [`RAPID_MAX_SPEEDDATA`] are
-//!     declared; a speed below half the resolution gets the resolution;
+//!   - per-move speeds: one `speeddata` `v_<n>` per distinct rounded speed, each rounded to
+//!     a step of ρ·v taken down to 1, 2 or 5 × 10^k mm/s and at least 1 mm/s (so whole mm/s,
+//!     never below 1 mm/s), with the finest ρ of 0.5 %, 1 %, 2 %, 5 %, 10 %, 20 %, 50 % that
+//!     declares at most [`RAPID_MAX_SPEEDDATA`]; wider ranges are refused;
 //!   - lines stay within 80 characters (statements wrap after commas).
 
 use super::export::{
@@ -48,7 +49,7 @@ pub const RAPID_PROCESS_SPEED: &str = "v_process";
 pub const RAPID_LINK_SPEED: &str = "v_link";
 /// At most this many per-move `speeddata` are declared (the resolution coarsens until
 /// they fit).
-pub const RAPID_MAX_SPEEDDATA: usize = 64;
+pub const RAPID_MAX_SPEEDDATA: usize = 100;
 
 /// ABB RAPID: one module text per file, the main module first (see [`rapid_files`]).
 pub fn to_rapid(path: &ToolPath, options: &ExportOptions) -> Result<Vec<String>, ToolPathError> {
@@ -62,12 +63,39 @@ pub fn to_rapid(path: &ToolPath, options: &ExportOptions) -> Result<Vec<String>,
 struct Speeds {
     names: Vec<String>,
     declared: Vec<(String, Real)>,
-    resolution_mm_s: Option<Real>,
+    /// With per-move speeds: the relative step (a fraction of the speed) they are rounded to.
+    relative_step: Option<Real>,
+}
+
+/// Fastest per-move speed the export names (mm/s); faster ones are refused (a unit error).
+const RAPID_MAX_SPEED_MM_S: Real = 1e12;
+/// Relative steps tried for per-move speeds, finest first.
+const SPEED_STEPS: [Real; 7] = [0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5];
+
+/// `v` (mm/s) rounded to a step of `rho·v` taken down to 1, 2 or 5 × 10^k and at least
+/// 1 mm/s; never below 1 mm/s. Returns whole mm/s.
+fn round_speed(v: Real, rho: Real) -> u64 {
+    let raw = rho * v;
+    let step = if raw <= 1.0 {
+        1.0
+    } else {
+        let decade = libm::pow(10.0, libm::floor(libm::log10(raw)));
+        let mantissa = raw / decade;
+        decade
+            * if mantissa >= 5.0 {
+                5.0
+            } else if mantissa >= 2.0 {
+                2.0
+            } else {
+                1.0
+            }
+    };
+    ((libm::round(v / step) * step) as u64).max(1)
 }
 
 /// `v_process` / `v_link` for a path with one process speed; else one `v_<n>` per distinct
 /// rounded speed of the path moves (approach and retract keep `v_link`).
-fn speeddata(path: &ToolPath, moves: &[Move], k: Real) -> Speeds {
+fn speeddata(path: &ToolPath, moves: &[Move], k: Real) -> Result<Speeds, ToolPathError> {
     let mut declared = vec![
         (RAPID_PROCESS_SPEED.to_string(), path.speed * k),
         (RAPID_LINK_SPEED.to_string(), path.link_speed * k),
@@ -84,33 +112,38 @@ fn speeddata(path: &ToolPath, moves: &[Move], k: Real) -> Speeds {
                 .to_string()
             })
             .collect();
-        return Speeds {
+        return Ok(Speeds {
             names,
             declared,
-            resolution_mm_s: None,
-        };
+            relative_step: None,
+        });
     }
-    // 1, 2, 5, 10, 20, 50 … mm/s until the distinct rounded speeds fit; ends because at a
-    // resolution above the fastest speed every move rounds to one value.
-    let rounded = |v: Real, r: Real| (libm::round(v / r) as u64).max(1);
     let path_speeds = || {
         moves
             .iter()
             .filter(|m| m.pose.is_some())
             .map(|m| m.speed_mm_s)
     };
-    let fastest = path_speeds().fold(0.0, Real::max);
-    let mut resolution = 1.0;
-    let mut step = 0;
-    loop {
-        let distinct: BTreeSet<u64> = path_speeds().map(|v| rounded(v, resolution)).collect();
-        if distinct.len() <= RAPID_MAX_SPEEDDATA || resolution > fastest {
-            break;
-        }
-        resolution *= [2.0, 2.5, 2.0][step % 3];
-        step += 1;
+    if let Some(v) = path_speeds().find(|&v| v > RAPID_MAX_SPEED_MM_S) {
+        return Err(bad_option(
+            "speeds",
+            format!(
+                "a move at {} mm/s is beyond any robot (at most {RAPID_MAX_SPEED_MM_S:e} mm/s \
+                 can be named): check the unit",
+                crate::math::Compact(v)
+            ),
+        ));
     }
-    let name = |units: u64, r: Real| format!("v_{}", num(units as Real * r, MM_DECIMALS));
+    // The finest relative step at which the distinct rounded speeds fit the bound. Speeds
+    // from 1 to 1e12 mm/s round to at most 3 values per decade at the coarsest step (1, 2,
+    // 5 × 10^k), 36 in all, so the last step always fits.
+    let rho = SPEED_STEPS
+        .into_iter()
+        .find(|&rho| {
+            let distinct: BTreeSet<u64> = path_speeds().map(|v| round_speed(v, rho)).collect();
+            distinct.len() <= RAPID_MAX_SPEEDDATA
+        })
+        .unwrap_or(SPEED_STEPS[SPEED_STEPS.len() - 1]);
     let mut seen = BTreeSet::new();
     let names = moves
         .iter()
@@ -118,18 +151,18 @@ fn speeddata(path: &ToolPath, moves: &[Move], k: Real) -> Speeds {
             if m.pose.is_none() {
                 return RAPID_LINK_SPEED.to_string();
             }
-            let units = rounded(m.speed_mm_s, resolution);
-            if seen.insert(units) {
-                declared.push((name(units, resolution), units as Real * resolution));
+            let v = round_speed(m.speed_mm_s, rho);
+            if seen.insert(v) {
+                declared.push((format!("v_{v}"), v as Real));
             }
-            name(units, resolution)
+            format!("v_{v}")
         })
         .collect();
-    Speeds {
+    Ok(Speeds {
         names,
         declared,
-        resolution_mm_s: Some(resolution),
-    }
+        relative_step: Some(rho),
+    })
 }
 
 /// ABB RAPID files. The path is cut into procedures `<name>_1`, `<name>_2`, … of at most
@@ -201,7 +234,7 @@ pub fn rapid_files(
 
     let k = options.mm_per_unit;
     let moves = &program.moves;
-    let speeds = speeddata(path, moves, k);
+    let speeds = speeddata(path, moves, k)?;
     let frames: Vec<_> = moves.iter().map(|m| m.frame).collect();
     let quaternions = continuous_quaternions(&frames);
     let width = ROBOT_LINE_WIDTH;
@@ -240,11 +273,12 @@ pub fn rapid_files(
             program.max_moves, o.entry
         ),
     ];
-    if let Some(r) = speeds.resolution_mm_s {
+    if let Some(rho) = speeds.relative_step {
         extra.push(format!(
-            "Per-move speeds: speeddata v_<mm/s>, each the plan's speed rounded to {} mm/s \
-             ({} declared).",
-            num(r, MM_DECIMALS),
+            "Per-move speeds: speeddata v_<mm/s>, each the plan's speed rounded to a step of \
+             at most {} % of it (1, 2 or 5 x 10^k mm/s, at least 1 mm/s; never below \
+             1 mm/s); {} declared.",
+            num(rho * 100.0, 3),
             speeds.declared.len() - 2
         ));
     }
