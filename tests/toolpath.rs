@@ -1319,19 +1319,19 @@ fn bad_options_are_refused_naming_the_option() {
     assert_eq!(option_error(to_krl(&path, &o)), "name");
     let mut o = ExportOptions::default();
     o.rapid.zone_process = "z 1".into();
-    assert_eq!(option_error(to_rapid(&path, &o)), "rapid.zone_process");
+    assert_eq!(option_error(to_rapid(&path, &o)), "rapidZoneProcess");
     let mut o = ExportOptions::default();
     o.rapid.work_object = o.rapid.tool.clone();
-    assert_eq!(option_error(to_rapid(&path, &o)), "rapid.work_object");
+    assert_eq!(option_error(to_rapid(&path, &o)), "rapidWorkObject");
     let mut o = ExportOptions::default();
     o.rapid.process_signal = "PROC".into();
-    assert_eq!(option_error(to_rapid(&path, &o)), "rapid.process_signal");
+    assert_eq!(option_error(to_rapid(&path, &o)), "rapidSignal");
     let mut o = ExportOptions::default();
     o.krl.process_output = 0;
-    assert_eq!(option_error(to_krl(&path, &o)), "krl.process_output");
+    assert_eq!(option_error(to_krl(&path, &o)), "krlOutput");
     let mut o = ExportOptions::default();
     o.krl.approximation_link_mm = f64::NAN;
-    assert_eq!(option_error(to_krl(&path, &o)), "krl.approximation_link_mm");
+    assert_eq!(option_error(to_krl(&path, &o)), "krlApproximationLinkMm");
     // Options of one robot do not affect the other.
     assert!(to_krl(&path, &{
         let mut o = ExportOptions::default();
@@ -1883,10 +1883,10 @@ fn reserved_and_predefined_names_are_refused_case_insensitively() {
     }
     // The data names RAPID declares or calls are checked the same way.
     for (set, option) in [
-        (0, "rapid.tool"),
-        (1, "rapid.work_object"),
-        (2, "rapid.process_signal"),
-        (3, "rapid.entry"),
+        (0, "rapidTool"),
+        (1, "rapidWorkObject"),
+        (2, "rapidSignal"),
+        (3, "rapidEntry"),
     ] {
         for bad in ["tool0", "WObj0", "MoveL", "v_link", "z50"] {
             let mut o = ExportOptions::default();
@@ -1906,7 +1906,7 @@ fn reserved_and_predefined_names_are_refused_case_insensitively() {
     o.rapid.zone_link = "fine".into();
     assert!(to_rapid(&path, &o).is_ok());
     o.rapid.zone_link = "ENDPROC".into();
-    assert_eq!(option_error(to_rapid(&path, &o)), "rapid.zone_link");
+    assert_eq!(option_error(to_rapid(&path, &o)), "rapidZoneLink");
     // The message names the clash.
     let o = ExportOptions {
         name: "tool0".into(),

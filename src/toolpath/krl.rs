@@ -68,9 +68,9 @@ pub fn krl_files(
     let id = |value: &str| check_identifier("name", value, KRL_MAX_IDENTIFIER, krl_clash, "KRL");
     id(name)?;
     for (option, value, max) in [
-        ("krl.process_output", o.process_output, KRL_MAX_OUTPUT),
-        ("krl.tool", o.tool, KRL_MAX_TOOL),
-        ("krl.base", o.base, KRL_MAX_BASE),
+        ("krlOutput", o.process_output, KRL_MAX_OUTPUT),
+        ("krlTool", o.tool, KRL_MAX_TOOL),
+        ("krlBase", o.base, KRL_MAX_BASE),
     ] {
         if !(1..=max).contains(&value) {
             return Err(bad_option(
@@ -80,8 +80,8 @@ pub fn krl_files(
         }
     }
     for (option, value) in [
-        ("krl.approximation_process_mm", o.approximation_process_mm),
-        ("krl.approximation_link_mm", o.approximation_link_mm),
+        ("krlApproximationProcessMm", o.approximation_process_mm),
+        ("krlApproximationLinkMm", o.approximation_link_mm),
     ] {
         if !(value.is_finite() && value >= 0.0) {
             return Err(bad_option(

@@ -182,8 +182,8 @@ pub fn rapid_files(
     // Zones name zonedata of the controller or the cell (z1, fine): only the syntax and the
     // reserved words are checked.
     for (option, value) in [
-        ("rapid.zone_process", &o.zone_process),
-        ("rapid.zone_link", &o.zone_link),
+        ("rapidZoneProcess", &o.zone_process),
+        ("rapidZoneLink", &o.zone_link),
     ] {
         check_identifier(
             option,
@@ -195,10 +195,10 @@ pub fn rapid_files(
     }
     id("name", name)?;
     for (option, value) in [
-        ("rapid.tool", &o.tool),
-        ("rapid.work_object", &o.work_object),
-        ("rapid.process_signal", &o.process_signal),
-        ("rapid.entry", &o.entry),
+        ("rapidTool", &o.tool),
+        ("rapidWorkObject", &o.work_object),
+        ("rapidSignal", &o.process_signal),
+        ("rapidEntry", &o.entry),
     ] {
         id(option, value)?;
     }
@@ -212,10 +212,10 @@ pub fn rapid_files(
     }
     // Names this program declares must differ (RAPID is case-insensitive).
     let declared = [
-        ("rapid.tool", &o.tool),
-        ("rapid.work_object", &o.work_object),
-        ("rapid.process_signal", &o.process_signal),
-        ("rapid.entry", &o.entry),
+        ("rapidTool", &o.tool),
+        ("rapidWorkObject", &o.work_object),
+        ("rapidSignal", &o.process_signal),
+        ("rapidEntry", &o.entry),
     ];
     for (i, (option, value)) in declared.iter().enumerate() {
         let clash = declared[..i]
