@@ -1949,3 +1949,56 @@ fn configuration_check_and_clearance_are_options() {
         assert_eq!(option_error(to_krl(&path, &o)), "approachClearanceMm");
     }
 }
+
+/// The shared real models: spray plans on the largest patch (the paper's set-up, metres),
+/// exported whole and split, read back as a controller runs them.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+#[ignore = "reads the shared real models: cargo test --release --test toolpath -- --ignored --nocapture"]
+fn real_models_export_programs_that_run_as_planned() {
+    use skinpath::segment::{segment, SegmentParams};
+    for name in ["bwb_4464_pygeo_ascii.stl", "wingbody_79868_flow360.stl"] {
+        let m = common::import(&common::model(name));
+        let seg = segment(&m.adjacency, &m.geometry, &SegmentParams::default()).unwrap();
+        let faces: Vec<u32> = seg.faces_of(0).map(|f| f as u32).collect();
+        let mm = 1e-3;
+        let p = skinpath::spray::SprayParams {
+            spacing: 0.09,
+            standoff: 250.0 * mm,
+            speed: 400.0 * mm,
+            flow_rate: 150.0 * 1e-6 / 60.0,
+            cone_angle: 40f64.to_radians(),
+            transition_angle: 20f64.to_radians(),
+            efficiency: 0.6,
+            resolution: Some(0.04),
+            ..skinpath::spray::SprayParams::default()
+        };
+        let plan = skinpath::spray::plan_spray(
+            &m.mesh,
+            &m.adjacency,
+            &m.geometry,
+            &faces,
+            &p,
+            &mut |_, _| {},
+        )
+        .unwrap();
+        let path = &plan.path;
+        check_both(name, path, &options(1000.0, None), 5000);
+        check_both(name, path, &options(1000.0, Some(1000)), 1000);
+        let (_, abcs) = check_krl(path, &options(1000.0, None), 1400);
+        let mut unwrapped = options(1000.0, None);
+        unwrapped.krl.unwrap_angles = true;
+        let (_, wide) = check_krl(path, &unwrapped, 1400);
+        let outside = |a: &[[f64; 3]]| {
+            a.iter()
+                .filter(|x| x[0].abs() > 180.0 || x[2].abs() > 180.0)
+                .count()
+        };
+        println!(
+            "{name}: KRL frames with A or C beyond ±180°: {} by default, {} unwrapped (of {})",
+            outside(&abcs),
+            outside(&wide),
+            abcs.len()
+        );
+    }
+}
