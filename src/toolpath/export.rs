@@ -1,6 +1,21 @@
-//! Export options and the helpers every format shares: option checks, number formatting,
-//! comment text for robot controllers, the per-move data and the split into parts.
-
+//! Export options and what every format shares: option checks, number formatting, comment
+//! text for robot controllers, and the program model both robot languages write.
+//!
+//! Source: no paper; the controllers' rules as ABB ("Technical reference manual – RAPID
+//!         Instructions, Functions and Data types": zonedata, fine points, MoveJ/MoveL) and
+//!         KUKA ("KUKA System Software 8.x", approximate positioning, PTP/LIN) document them:
+//!         a fly-by zone shrinks to half the neighbouring segment (a zero-length move is a
+//!         stop), a path that turns back inside a zone never reaches its target, the first
+//!         move comes from an unknown place.
+//! Input:  a checked [`ToolPath`] and [`ExportOptions`].
+//! Output: [`Program`]: every move (joint approach, linear path targets, linear retract) with
+//!         its frame, process state, speed and exact-stop flag, cut into [`Part`]s.
+//! Cost:   O(poses): one pass to merge, cut scans amortised O(1) per target, one pass for
+//!         the reversals.
+//! Deviations (choices of this crate): the merge tolerance ([`ZERO_MOVE_REL_TOL`] of the
+//!         extent, at least [`ZERO_MOVE_MIN_MM`]); the reversal angle
+//!         ([`REVERSAL_ANGLE_DEG`]); cuts preferred before a process-off move so parts run on
+//!         their own; exact stops at process poses followed by a retract pose.
 use super::frames::{tool_frames, Matrix3};
 use super::path::{PoseKind, ToolPath, ToolPathError};
 use crate::math::{Real, Vector3};
