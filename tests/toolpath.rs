@@ -702,14 +702,18 @@ fn check_rapid(path: &ToolPath, opts: &ExportOptions, max_moves: usize) -> usize
             "{name} has {count} moves"
         );
         let mut reset_here = false;
+        let mut part_moves = 0;
         for item in body {
             match item {
                 RapidItem::SetDo(signal, v) => {
                     assert_eq!(signal, &o.process_signal);
                     match signal_on {
                         Some(s) if s == *v => {
-                            // Only a clean part's reset may repeat the state.
-                            assert!(!v && !reset_here && exec.len() == exec.len());
+                            // Only a clean part's reset (once, to off) may repeat the state.
+                            assert!(
+                                !v && !reset_here && part_moves == 0,
+                                "{name}: redundant SetDO"
+                            );
                             reset_here = true;
                         }
                         None => assert!(!v, "the first hook switches the process off"),
@@ -747,6 +751,7 @@ fn check_rapid(path: &ToolPath, opts: &ExportOptions, max_moves: usize) -> usize
                         o.zone_link.as_str()
                     };
                     assert_eq!(m.zone, zone);
+                    part_moves += 1;
                     exec.push(Exec {
                         joint: m.joint,
                         position: m.position,
