@@ -17,7 +17,8 @@ pub const CSV_HEADER: &str = "index,pass,kind,x_mm,y_mm,z_mm,ax,ay,az,tx,ty,tz,p
 
 /// CSV with a header row ([`CSV_HEADER`]) and one line per pose: positions in mm to 1e-6 mm,
 /// unit axis and travel to 1e-9, `process` 1/0 from the pose kind, and the speed (mm/s) of the
-/// move to the pose (the process speed when the process is on, else the link speed).
+/// move to the pose ([`ToolPath::move_speed`]: the plan's per-move speed when it has them,
+/// else the process speed when the process is on and the link speed when it is off).
 pub fn to_csv(path: &ToolPath, options: &ExportOptions) -> Result<String, ToolPathError> {
     check_common(path, options)?;
     let k = options.mm_per_unit;
@@ -26,7 +27,7 @@ pub fn to_csv(path: &ToolPath, options: &ExportOptions) -> Result<String, ToolPa
     out.push('\n');
     for (i, p) in path.poses.iter().enumerate() {
         let on = p.kind.process_on();
-        let speed = if on { path.speed } else { path.link_speed } * k;
+        let speed = path.move_speed(i) * k;
         let mm = |c: f64| num(c * k, MM_DECIMALS);
         let unit = |c: f64| num(c, UNIT_DECIMALS);
         // Writing to a String cannot fail.

@@ -3,7 +3,7 @@
 //! Source: RFC 8259 JSON; the schema is this crate's (documented in the module doc of
 //!         `toolpath`).
 //! Input:  a checked [`ToolPath`] and the unit scale.
-//! Output: `{ format: "skinpath-toolpath", version: 1, …, poses: [...] }`.
+//! Output: `{ format: "skinpath-toolpath", version: 2, …, poses: [...] }`.
 //! Cost:   O(poses).
 //! Deviations: numbers are the shortest decimal that reads back to the same `f64` (exact round
 //!         trip), never in exponent notation.
@@ -16,7 +16,7 @@ use std::fmt::Write;
 /// The value of the document's `format` field.
 pub const JSON_FORMAT: &str = "skinpath-toolpath";
 /// The value of the document's `version` field; it grows when the schema changes.
-pub const JSON_VERSION: u32 = 1;
+pub const JSON_VERSION: u32 = 2;
 
 /// The JSON document of the path (schema in the module doc of `toolpath`): positions and
 /// speeds in mm and mm/s whatever the mesh unit, unit vectors as given.
@@ -32,6 +32,7 @@ pub fn to_json(path: &ToolPath, options: &ExportOptions) -> Result<String, ToolP
     out.push_str("  \"unit\": \"mm\",\n  \"speedUnit\": \"mm/s\",\n");
     let _ = writeln!(out, "  \"speed\": {},", number(path.speed * k));
     let _ = writeln!(out, "  \"linkSpeed\": {},", number(path.link_speed * k));
+    let _ = writeln!(out, "  \"varyingSpeed\": {},", path.has_varying_speed());
     let _ = writeln!(out, "  \"poseCount\": {},", path.poses.len());
     let _ = writeln!(out, "  \"passCount\": {},", path.pass_count());
     out.push_str(
@@ -53,7 +54,7 @@ pub fn to_json(path: &ToolPath, options: &ExportOptions) -> Result<String, ToolP
         let _ = write!(
             out,
             "    {{\"position\": {}, \"axis\": {}, \"travel\": {}, \"kind\": {}, \"kindCode\": {}, \
-             \"pass\": {}, \"processOn\": {}}}",
+             \"pass\": {}, \"processOn\": {}, \"speed\": {}}}",
             vector(&(p.position.coords * k)),
             vector(&p.axis),
             vector(&p.travel),
@@ -61,6 +62,7 @@ pub fn to_json(path: &ToolPath, options: &ExportOptions) -> Result<String, ToolP
             p.kind.code(),
             p.pass,
             p.kind.process_on(),
+            number(path.move_speed(i) * k),
         );
         out.push_str(if i + 1 < path.poses.len() {
             ",\n"

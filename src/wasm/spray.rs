@@ -36,8 +36,6 @@ export interface ThicknessStats { mean: number; stdDev: number; error: number; m
 export interface SprayQuality { interior: ThicknessStats; whole: ThicknessStats; limitsMet: boolean; messages: string[] }
 /** One spacing tried by the search, with its interior figures. */
 export interface SprayIteration { spacing: number; resolution: number; mean: number; stdDev: number; error: number; met: boolean; full: boolean }
-/** Robot-program options: millimetres per file unit (default 1), program name, moves per file. */
-export interface ExportOptions { mmPerUnit?: number; name?: string; maxMoves?: number; lineEnding?: "lf" | "crlf" }
 "#;
 
 /// Keys of `SprayPlanParams`.

@@ -6,32 +6,113 @@ use crate::toolpath::{ExportOptions, LineEnding, ToolPath};
 use wasm_bindgen::prelude::*;
 
 /// Keys of the JavaScript `ExportOptions`.
-const EXPORT_KEYS: &[&str] = &["mmPerUnit", "name", "maxMoves", "lineEnding"];
+const EXPORT_KEYS: &[&str] = &[
+    "mmPerUnit",
+    "name",
+    "maxMoves",
+    "lineEnding",
+    "approachClearanceMm",
+    "rapidTool",
+    "rapidWorkObject",
+    "rapidSignal",
+    "rapidZoneProcess",
+    "rapidZoneLink",
+    "rapidEntry",
+    "rapidConfigCheck",
+    "krlOutput",
+    "krlTool",
+    "krlBase",
+    "krlApproximationProcessMm",
+    "krlApproximationLinkMm",
+    "krlUnwrapAngles",
+];
 
-/// Reads `{ mmPerUnit?, name?, maxMoves?, lineEnding? }` (`undefined` for the defaults);
-/// the exports themselves refuse values out of range, naming the option.
+/// The TypeScript declaration of [`EXPORT_KEYS`].
+#[wasm_bindgen(typescript_custom_section)]
+const EXPORT_OPTIONS_TS: &str = r#"
+/** Export options (all optional): millimetres per file unit (default 1), program name,
+ *  path moves per part, line endings, approach/retract clearance in mm (default 50), the
+ *  RAPID tool, work object, process signal, zones and entry routine names, whether RAPID keeps
+ *  the configuration check (default false: ConfJ\Off, ConfL\Off), the KRL process output,
+ *  tool and base numbers, approximation distances in mm, and whether KRL writes A and C
+ *  unwrapped beyond ±180° (default false). */
+export interface ExportOptions {
+  mmPerUnit?: number; name?: string; maxMoves?: number; lineEnding?: "lf" | "crlf";
+  approachClearanceMm?: number;
+  rapidTool?: string; rapidWorkObject?: string; rapidSignal?: string;
+  rapidZoneProcess?: string; rapidZoneLink?: string; rapidEntry?: string;
+  rapidConfigCheck?: boolean;
+  krlOutput?: number; krlTool?: number; krlBase?: number;
+  krlApproximationProcessMm?: number; krlApproximationLinkMm?: number;
+  krlUnwrapAngles?: boolean;
+}
+"#;
+
+/// Reads the JavaScript `ExportOptions` (`undefined` for the defaults); the exports
+/// themselves refuse values out of range, naming the option by its JavaScript key.
 pub(crate) fn export_options_from_js(value: &JsValue) -> Result<ExportOptions, JsError> {
-    let mut options = ExportOptions::default();
+    let mut o = ExportOptions::default();
     let Some(r) = ParamReader::optional_argument(value, "export option", EXPORT_KEYS)? else {
-        return Ok(options);
+        return Ok(o);
     };
     if let Some(mm) = r.optional_number("mmPerUnit")? {
-        options.mm_per_unit = mm;
+        o.mm_per_unit = mm;
     }
     if let Some(name) = r.optional_string("name")? {
-        options.name = name;
+        o.name = name;
     }
     if let Some(moves) = r.optional_integer("maxMoves", 0, 1 << 30)? {
-        options.max_moves = Some(moves as usize);
+        o.max_moves = Some(moves as usize);
     }
     if let Some(ending) = r.optional_choice("lineEnding", &["lf", "crlf"])? {
-        options.line_ending = if ending == "crlf" {
+        o.line_ending = if ending == "crlf" {
             LineEnding::CrLf
         } else {
             LineEnding::Lf
         };
     }
-    Ok(options)
+    if let Some(mm) = r.optional_number("approachClearanceMm")? {
+        o.approach_clearance_mm = mm;
+    }
+    for (key, slot) in [
+        ("rapidTool", &mut o.rapid.tool),
+        ("rapidWorkObject", &mut o.rapid.work_object),
+        ("rapidSignal", &mut o.rapid.process_signal),
+        ("rapidZoneProcess", &mut o.rapid.zone_process),
+        ("rapidZoneLink", &mut o.rapid.zone_link),
+        ("rapidEntry", &mut o.rapid.entry),
+    ] {
+        if let Some(v) = r.optional_string(key)? {
+            *slot = v;
+        }
+    }
+    for (key, slot) in [
+        ("krlOutput", &mut o.krl.process_output),
+        ("krlTool", &mut o.krl.tool),
+        ("krlBase", &mut o.krl.base),
+    ] {
+        if let Some(v) = r.optional_integer(key, 0, u32::MAX as i64)? {
+            *slot = v as u32;
+        }
+    }
+    for (key, slot) in [
+        (
+            "krlApproximationProcessMm",
+            &mut o.krl.approximation_process_mm,
+        ),
+        ("krlApproximationLinkMm", &mut o.krl.approximation_link_mm),
+    ] {
+        if let Some(v) = r.optional_number(key)? {
+            *slot = v;
+        }
+    }
+    if let Some(v) = r.optional_bool("rapidConfigCheck")? {
+        o.rapid.config_check = v;
+    }
+    if let Some(v) = r.optional_bool("krlUnwrapAngles")? {
+        o.krl.unwrap_angles = v;
+    }
+    Ok(o)
 }
 
 /// CSV of `path` with JavaScript export options (shared by every class that exports a path).

@@ -59,6 +59,35 @@ test('a bad hole row is reported by its line number and the good rows are kept',
   assert.match(await page.textContent('#status'), /1 bad row skipped/);
 });
 
+test('the export section says what the cell must set up, and its names reach the program', async () => {
+  const { page } = app;
+  const notes = await page.locator('#drill-cell .cell-notes').textContent();
+  for (const needed of ['doProcess', '$OUT[1]', 'tSkinpath', 'TOOL_DATA[1]', 'wSkinpath', 'BASE_DATA[1]', 'I/O configuration', 'flange', "part's frame", '50 mm']) {
+    assert.ok(notes.includes(needed), `${needed} in: ${notes}`);
+  }
+  await page.click('#drill-cell summary');
+  await page.fill('#drill-cell-rapidSignal', 'doDrill');
+  await page.press('#drill-cell-rapidSignal', 'Enter');
+  await page.fill('#drill-cell-approachClearanceMm', '30');
+  await page.press('#drill-cell-approachClearanceMm', 'Tab');
+  assert.match(await page.locator('#drill-cell .cell-notes').textContent(), /doDrill.*30 mm/s);
+  await page.locator('#drill-cell').screenshot({ path: join(outputDir, 'drill-cell.png') });
+  // The same cell in the other tools' export sections.
+  assert.equal(await page.inputValue('#spray-cell-rapidSignal'), 'doDrill');
+  const rapid = await saveDownload(page, () => page.click('#results-drill button[data-format="rapid"]'));
+  const program = rapid.bytes.toString('utf8');
+  assert.match(program, /SetDO doDrill,1;/);
+  assert.match(program, /30 mm back along/);
+  assert.match(program, /ConfL\\Off;/);
+  assert.ok(program.indexOf('MoveJ ') < program.indexOf('MoveL '), 'a joint move first');
+  // Back to the defaults for the tests after this one.
+  await page.fill('#drill-cell-rapidSignal', 'doProcess');
+  await page.press('#drill-cell-rapidSignal', 'Tab');
+  await page.fill('#drill-cell-approachClearanceMm', '50');
+  await page.press('#drill-cell-approachClearanceMm', 'Tab');
+  assert.deepEqual(app.consoleErrors, []);
+});
+
 test('the corrected holes export as a RAPID program and as a hole CSV', async () => {
   const { page } = app;
   const rapid = await saveDownload(page, () => page.click('#results-drill button[data-format="rapid"]'));

@@ -180,7 +180,9 @@ test('drillPaperExample gives the panel, the references and the truth; drillingP
     const bilinear = err(mesh.correctHoles({ ...params, method: 'bilinear' }).corrected);
     assert.ok(err(ex.holes) > bilinear && bilinear > 10 * coons, `${err(ex.holes)} ${bilinear} ${coons}`);
     const [rapid] = mesh.drillingProgram(params, { approach: 15 }, 'rapid', { name: 'dr_test' });
-    assert.equal((rapid.match(/MoveL /g) ?? []).length, 48);
+    // The 48 poses, the retract after them, and one joint move to the approach pose first.
+    assert.equal((rapid.match(/MoveL /g) ?? []).length, 48 + 1);
+    assert.equal((rapid.match(/MoveJ /g) ?? []).length, 1);
     const [csv] = mesh.drillingProgram(params, undefined, 'csv', undefined);
     assert.equal(csv.trim().split('\n').length, 1 + 48);
     assert.throws(() => mesh.drillingProgram(params, undefined, 'gcode', undefined), /unknown export format "gcode"/);

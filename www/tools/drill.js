@@ -9,6 +9,7 @@ import { CancelledError } from '../app/engine.js';
 import { download, fileStem } from '../app/download.js';
 import { num } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
+import { cellHtml, cellOptions, mountCell, renderCell } from '../app/cell.js';
 
 const P = 'drill.'; // settings key prefix
 const DEFAULTS = Object.freeze({
@@ -101,6 +102,7 @@ const RESULTS = `
       <button type="button" data-format="csv" disabled title="Tool path: one row per pose">Tool path · CSV</button>
       <button type="button" data-format="json" disabled title="Tool path as JSON">Tool path · JSON</button>
     </div>
+    ${cellHtml('drill')}
   </section>`;
 
 const sub = (a, b, i) => [a[3 * i] - b[3 * i], a[3 * i + 1] - b[3 * i + 1], a[3 * i + 2] - b[3 * i + 2]];
@@ -149,6 +151,7 @@ class DrillTool {
     panel.innerHTML = PANEL;
     panel.setAttribute('aria-labelledby', 'drill-heading');
     results.innerHTML = RESULTS;
+    mountCell(results, () => shell.state.settings);
     this.#overlay = overlay;
     this.#wire(panel, results);
     this.#renderForm();
@@ -571,7 +574,7 @@ class DrillTool {
     this.#job(`Writing the ${format.toUpperCase()} program`, async (progress) => {
       let out;
       try {
-        out = await shell.engine.request('drill.program', { params, pose, format, options: { mmPerUnit: shell.mmPerUnit, name }, stem },
+        out = await shell.engine.request('drill.program', { params, pose, format, options: { mmPerUnit: shell.mmPerUnit, name, ...cellOptions(this.#s) }, stem },
           { onProgress: progress });
       } catch (error) {
         if (error instanceof CancelledError) throw error;
@@ -635,6 +638,7 @@ class DrillTool {
   }
 
   onSettingsChanged() {
+    renderCell(this.#s);
     this.#renderForm();
   }
 

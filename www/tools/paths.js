@@ -10,6 +10,7 @@ import { CancelledError } from '../app/engine.js';
 import { download, fileStem } from '../app/download.js';
 import { fieldText, integer, num } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
+import { cellHtml, cellOptions, mountCell, renderCell } from '../app/cell.js';
 import { viridis, viridisInto } from './spray.js';
 
 const P = 'paths.'; // settings key prefix
@@ -143,6 +144,7 @@ const RESULTS = `
       <button type="button" data-format="csv" disabled title="One row per path point: position, tool axis, kind, pass">Path · CSV</button>
       <button type="button" data-format="json" disabled title="The path points and parameters">Path · JSON</button>
     </div>
+    ${cellHtml('paths')}
   </section>`;
 
 class PathsTool {
@@ -170,6 +172,7 @@ class PathsTool {
     panel.innerHTML = PANEL;
     panel.setAttribute('aria-labelledby', 'paths-heading');
     results.innerHTML = RESULTS;
+    mountCell(results, () => shell.state.settings);
     this.#results = results;
     this.#overlay = overlay;
     this.#form = panel.querySelector('#paths-form');
@@ -324,6 +327,7 @@ class PathsTool {
   }
 
   onSettingsChanged() {
+    renderCell(this.#s);
     this.#renderForm();
   }
 
@@ -632,7 +636,7 @@ class PathsTool {
     const stem = fileStem(result.model);
     // KRL allows 24 characters and the exporters append a part number: keep 16.
     const name = `gp_${stem.replace(/[^A-Za-z0-9_]/g, '_')}`.slice(0, 16).replace(/_+$/, '');
-    const options = { mmPerUnit: shell.mmPerUnit, name };
+    const options = { mmPerUnit: shell.mmPerUnit, name, ...cellOptions(this.#s) };
     const { values, ...message } = result.request;
     const recompute = (progress) => shell.engine.request('paths.compute', message, { onProgress: progress });
     shell.enqueue(`Writing the ${format.toUpperCase()} program`, async (progress, checkpoint) => {

@@ -8,6 +8,7 @@ import { CancelledError } from '../app/engine.js';
 import { download, fileStem } from '../app/download.js';
 import { fieldText, integer, num } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
+import { cellHtml, cellOptions, mountCell, renderCell } from '../app/cell.js';
 
 const P = 'spray.'; // settings key prefix
 
@@ -218,6 +219,7 @@ const RESULTS = `
       <button type="button" data-format="csv" disabled title="One row per trajectory point: position, gun axis, kind, pass">Trajectory · CSV</button>
       <button type="button" data-format="json" disabled title="The trajectory, parameters and quality figures">Trajectory · JSON</button>
     </div>
+    ${cellHtml('spray')}
   </section>`;
 
 class SprayTool {
@@ -244,6 +246,7 @@ class SprayTool {
     panel.innerHTML = PANEL;
     panel.setAttribute('aria-labelledby', 'spray-heading');
     results.innerHTML = RESULTS;
+    mountCell(results, () => shell.state.settings);
     this.#results = results;
     this.#overlay = overlay;
     this.#form = panel.querySelector('#spray-form');
@@ -422,6 +425,7 @@ class SprayTool {
   }
 
   onSettingsChanged() {
+    renderCell(this.#s);
     this.#renderForm();
   }
 
@@ -888,7 +892,7 @@ class SprayTool {
     // Robot programs are in mm; the program is named after the model (a RAPID/KRL identifier).
     // KRL allows 24 characters and the exporters append a part number (_12): keep 16.
     const name = `sp_${stem.replace(/[^A-Za-z0-9_]/g, '_')}`.slice(0, 16).replace(/_+$/, '');
-    const options = { mmPerUnit: shell.mmPerUnit, name };
+    const options = { mmPerUnit: shell.mmPerUnit, name, ...cellOptions(this.#s) };
     const replan = (progress) => shell.engine.request('spray.plan', { params: plan.request.params, patchId: plan.request.patchId },
       { onProgress: progress });
     shell.enqueue(`Writing the ${format.toUpperCase()} program`, async (progress, checkpoint) => {
