@@ -171,7 +171,7 @@ pub fn krl_files(
             let _ = writeln!(text, "  BAS(#VEL_PTP,{KRL_PTP_VELOCITY_PERCENT})");
             process_on = false;
         }
-        let mut speed: Option<Real> = None;
+        let mut speed: Option<String> = None;
         let mut apo: Option<Real> = None;
         for i in part.moves.clone() {
             let m = &moves[i];
@@ -183,9 +183,10 @@ pub fn krl_files(
                 let _ = writeln!(text, "  PTP {frame}");
                 continue;
             }
-            let v = m.speed_mm_s / 1000.0;
-            if speed != Some(v) {
-                let _ = writeln!(text, "  $VEL.CP = {}", num(v, MM_DECIMALS));
+            // Compared as written: speeds that print alike are one speed to the controller.
+            let v = num(m.speed_mm_s / 1000.0, MM_DECIMALS);
+            if speed.as_ref() != Some(&v) {
+                let _ = writeln!(text, "  $VEL.CP = {v}");
                 speed = Some(v);
             }
             let a = if m.process_on {
