@@ -9,7 +9,9 @@
 //!         O(time samples × points per cone) for the deposition and, with speed optimisation,
 //!         the coating matrix and its sweeps ([`optimise_speeds`]).
 //!         With quality limits, a second sample set at [`COARSE_RESOLUTION_RATIO`] times the
-//!         resolution serves the search's screening when it has at most half the samples.
+//!         resolution serves the search's screening when it has at most half the samples
+//!         (on a mesh finer than the resolution, the full samples thinned to one per cube of
+//!         that size).
 //! Deviations: the patent keeps the speed constant; here, by default, the speed of each short
 //!         piece of path is optimised within `[minSpeed, maxSpeed]` ([`optimise_speeds`]),
 //!         towards `targetThickness` when given. Without speed optimisation, `targetThickness`
@@ -355,9 +357,32 @@ pub fn plan_spray(
             resolved.radius,
             resolved.edge_exclusion,
         )?;
-        let fewer = (c.samples.positions.len() as Real)
-            <= COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real;
-        fewer.then_some(c)
+        let fewer = |c: &Sampling| {
+            (c.samples.positions.len() as Real)
+                <= COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real
+        };
+        if fewer(&c) {
+            Some(c)
+        } else {
+            // A mesh finer than the resolution: its vertices are the samples at any
+            // resolution, so the screening thins them instead.
+            let cell = COARSE_RESOLUTION_RATIO * resolved.resolution;
+            let samples = full.samples.thinned(cell, &full.interior);
+            let c = Sampling {
+                resolution: cell,
+                grid: PointGrid::new(&samples.positions, GRID_CELL_RATIO * resolved.radius),
+                interior: interior_mask(
+                    mesh,
+                    adjacency,
+                    &frame.faces,
+                    &frame.selected,
+                    &samples.positions,
+                    resolved.edge_exclusion,
+                ),
+                samples,
+            };
+            fewer(&c).then_some(c)
+        }
     } else {
         None
     };

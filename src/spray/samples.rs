@@ -191,3 +191,35 @@ mod tests {
         assert!(s.normals.iter().all(|n| (n.z - 1.0).abs() < 1e-12));
     }
 }
+
+impl EvaluationSamples {
+    /// The samples thinned to the first one in each cube of side `cell` (no paper; for a
+    /// coarse screening on a mesh finer than the resolution): it keeps its position and
+    /// normal and carries the weight of its whole cube; `keep_apart[i]` samples are thinned
+    /// separately from the others (the interior from the band along the edge). No display
+    /// triangles.
+    pub fn thinned(&self, cell: Real, keep_apart: &[bool]) -> EvaluationSamples {
+        let mut index: rustc_hash::FxHashMap<(i64, i64, i64, bool), usize> =
+            rustc_hash::FxHashMap::default();
+        let mut out = EvaluationSamples::default();
+        for (i, p) in self.positions.iter().enumerate() {
+            // Finite: samples lie on validated faces.
+            let key = (
+                (p.x / cell).floor() as i64,
+                (p.y / cell).floor() as i64,
+                (p.z / cell).floor() as i64,
+                keep_apart[i],
+            );
+            match index.get(&key) {
+                Some(&k) => out.weights[k] += self.weights[i],
+                None => {
+                    index.insert(key, out.positions.len());
+                    out.positions.push(*p);
+                    out.normals.push(self.normals[i]);
+                    out.weights.push(self.weights[i]);
+                }
+            }
+        }
+        out
+    }
+}

@@ -8,7 +8,8 @@
 //! Output: the chosen spacing, whether it meets the limits, every spacing tried (with the
 //!         resolution it was evaluated at).
 //! Cost:   at most 2·[`PREDICTED_WINDOWS`] + [`COARSE_STEPS`] candidates (each confirmed at full
-//!         resolution when it passes coarse), then at most [`REFINE_STEPS`] bisections.
+//!         resolution when it passes coarse), then at most [`REFINE_STEPS`] bisections and
+//!         [`CONFIRM_STEPS`] confirmations.
 //! Deviations (no paper): quality is not monotone in `b`: the sum of neighbouring passes
 //!         swings between ridges and troughs, so the feasible spacings form windows (on a plate
 //!         with h 250 mm, α 40°, δ ≤ 0.10 holds below about 80 mm and again from about 104 to
@@ -36,6 +37,8 @@ pub const PREDICTED_WINDOWS: usize = 4;
 pub const PREDICTION_STEPS: usize = 256;
 /// Most bisections above the feasible spacing.
 pub const REFINE_STEPS: usize = 6;
+/// Most full-fidelity evaluations confirming the refined spacing.
+pub const CONFIRM_STEPS: usize = 3;
 /// Refinement stops once the bracket above the feasible spacing is at most this fraction
 /// of it.
 pub const REFINE_TOLERANCE: Real = 0.015;
@@ -159,7 +162,7 @@ pub fn search_spacing(
     progress: &mut dyn FnMut(f64),
 ) -> Result<SpacingChoice, SprayError> {
     let candidates = candidates(lo, hi, predict);
-    let total = (candidates.len() + REFINE_STEPS + 1) as f64;
+    let total = (candidates.len() + REFINE_STEPS + CONFIRM_STEPS + 1) as f64;
     let mut iterations: Vec<Iteration> = Vec::new();
     let mut run = |b: Real,
                    fidelity: Fidelity,
@@ -235,18 +238,36 @@ pub fn search_spacing(
         .copied()
         .filter(|&b| b > feasible)
         .fold(beyond, Real::min);
-    if upper > feasible {
-        for _ in 0..REFINE_STEPS {
-            if upper - feasible <= REFINE_TOLERANCE * feasible {
+    // At the screening fidelity; the widest spacing it finds is then confirmed at full
+    // fidelity, bisecting back towards the confirmed one while the confirmation fails.
+    let confirmed = feasible;
+    for _ in 0..REFINE_STEPS {
+        if upper - feasible <= REFINE_TOLERANCE * feasible {
+            break;
+        }
+        let b = 0.5 * (feasible + upper);
+        if run(b, screen, &mut iterations)? {
+            feasible = b;
+        } else {
+            upper = b;
+        }
+    }
+    if coarse_scan && feasible > confirmed {
+        // The spacings the bisection found feasible on the coarse samples, widest first.
+        let mut screened: Vec<Real> = iterations
+            .iter()
+            .filter(|it| !it.full && it.met && it.spacing > confirmed)
+            .map(|it| it.spacing)
+            .collect();
+        screened.sort_by(|a, b| b.total_cmp(a));
+        let mut good = confirmed;
+        for &b in screened.iter().take(CONFIRM_STEPS) {
+            if run(b, Fidelity::Full, &mut iterations)? {
+                good = b;
                 break;
             }
-            let b = 0.5 * (feasible + upper);
-            if run(b, Fidelity::Full, &mut iterations)? {
-                feasible = b;
-            } else {
-                upper = b;
-            }
         }
+        feasible = good;
     }
     Ok(SpacingChoice {
         spacing: feasible,
