@@ -167,31 +167,6 @@ pub fn sample_faces(
     Ok(out)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn one_triangle_split_in_four_shares_every_sample() {
-        let mesh = TriMesh::new(
-            vec![
-                Point3::new(0.0, 0.0, 0.0),
-                Point3::new(2.0, 0.0, 0.0),
-                Point3::new(0.0, 2.0, 0.0),
-            ],
-            vec![[0, 1, 2]],
-        )
-        .unwrap();
-        let geometry = FaceGeometry::new(&mesh);
-        let s = sample_faces(&mesh, &geometry, &[0], 1.5).unwrap();
-        // k = ceil(2√2 / 1.5) = 2: 6 samples, 4 sub-triangles.
-        assert_eq!((s.positions.len(), s.triangles.len()), (6, 4));
-        let total: Real = s.weights.iter().sum();
-        assert!((total - 2.0).abs() < 1e-12);
-        assert!(s.normals.iter().all(|n| (n.z - 1.0).abs() < 1e-12));
-    }
-}
-
 impl EvaluationSamples {
     /// The samples thinned to the first one in each cube of side `cell` (no paper; for a
     /// coarse screening on a mesh finer than the resolution): it keeps its position and
@@ -221,5 +196,30 @@ impl EvaluationSamples {
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_triangle_split_in_four_shares_every_sample() {
+        let mesh = TriMesh::new(
+            vec![
+                Point3::new(0.0, 0.0, 0.0),
+                Point3::new(2.0, 0.0, 0.0),
+                Point3::new(0.0, 2.0, 0.0),
+            ],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        let geometry = FaceGeometry::new(&mesh);
+        let s = sample_faces(&mesh, &geometry, &[0], 1.5).unwrap();
+        // k = ceil(2√2 / 1.5) = 2: 6 samples, 4 sub-triangles.
+        assert_eq!((s.positions.len(), s.triangles.len()), (6, 4));
+        let total: Real = s.weights.iter().sum();
+        assert!((total - 2.0).abs() < 1e-12);
+        assert!(s.normals.iter().all(|n| (n.z - 1.0).abs() < 1e-12));
     }
 }
