@@ -49,6 +49,11 @@ use rustc_hash::FxHashMap;
 
 /// Largest turn of the gun axis between two poses of an arc, radians (5°).
 pub const ARC_STEP_RAD: Real = 0.087_266_462_599_716_48;
+/// A crossing cuts a cap only where the two branches are closer in space than this multiple
+/// of the standoff.
+const CAP_GAP_RATIO: Real = 0.05;
+/// A cap may be cut only when the end's normal is within this sine of the scan plane.
+const CAP_PLANE_SINE: Real = 0.25;
 /// Relative slack on the number of arc steps (see [`arc_steps`]).
 const ARC_STEP_SLACK: Real = 1e-6;
 /// Consecutive poses closer than this multiple of the standoff are merged into one.
@@ -142,6 +147,16 @@ struct Node {
     origin: usize,
 }
 
+/// Where the caps are in the raw curve (they end at raw node `first` and start at raw node
+/// `last`), whether each may be cut, and the largest gap in space at a crossing that cuts one.
+struct Caps {
+    gap: Real,
+    first: usize,
+    last: usize,
+    start: bool,
+    end: bool,
+}
+
 /// The loop-free offset curve and whether a crossing cut each cap.
 struct Kept {
     nodes: Vec<Node>,
@@ -152,6 +167,7 @@ struct Kept {
 /// The pass's plane: an origin and two unit directions spanning it.
 struct Plane {
     origin: Point3,
+    normal: Vector3,
     e1: Vector3,
     e2: Vector3,
 }
@@ -180,6 +196,7 @@ impl Plane {
         };
         Plane {
             origin,
+            normal,
             e1,
             e2: normal.cross(&e1),
         }
@@ -306,6 +323,9 @@ impl EdgeGrid {
     }
 }
 
+/// A raw node: position, gun axis, kind.
+type RawNode = (Point3, Vector3, PoseKind);
+
 /// The raw offset curve of one pass: start cap, offset segments with their transitions, end
 /// cap. Returns the nodes, the index of the first segment's offset start (the start cap's
 /// last node) and of the last segment's offset end (the end cap's first node).
@@ -316,15 +336,11 @@ fn raw_offset(
     standoff: Real,
     transition_angle: Real,
     counts: &mut TrajectoryCounts,
-) -> (Vec<(Point3, Vector3, PoseKind)>, usize, usize) {
+) -> (Vec<RawNode>, usize, usize) {
     let m = n.len();
-    let mut raw: Vec<(Point3, Vector3, PoseKind)> = Vec::with_capacity(2 * m + 40);
+    let mut raw: Vec<RawNode> = Vec::with_capacity(2 * m + 40);
     // A round cap of radius h around `centre` from direction `d0` to `d1` (gun axis radial).
-    let cap = |raw: &mut Vec<(Point3, Vector3, PoseKind)>,
-               centre: Point3,
-               d0: Vector3,
-               d1: Vector3,
-               first: bool| {
+    let cap = |raw: &mut Vec<RawNode>, centre: Point3, d0: Vector3, d1: Vector3, first: bool| {
         let gamma = angle_between(&d0, &d1);
         let steps = arc_steps(gamma);
         for s in usize::from(!first)..=steps {
@@ -393,8 +409,10 @@ struct Crossing {
 /// goes on from there. Every crossing removes at least one kept node and every raw node is
 /// kept at most once, so it ends after at most twice as many steps as raw nodes. A crossing
 /// on an edge of the start cap (raw edges up to `first`) cuts it, unless at its very end; one
-/// found by an edge of the end cap (raw edges after `last`) cuts that.
-fn remove_loops(raw: &[Node], tol: Real, first: usize, last: usize) -> Kept {
+/// found by an edge of the end cap (raw edges after `last`) cuts that; either counts only
+/// where the branches are within `caps.gap` in space and the cap may be cut at all.
+fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
+    let (first, last) = (caps.first, caps.last);
     let mut kept: Vec<Node> = Vec::with_capacity(raw.len());
     let (mut start_cut, mut end_cut) = (false, false);
     let Some(&first_node) = raw.first() else {
@@ -438,6 +456,19 @@ fn remove_loops(raw: &[Node], tol: Real, first: usize, last: usize) -> Kept {
                 let u_tol = tol / ls;
                 if t < t_min || t > 1.0 + t_min || u < -u_tol || u > 1.0 + u_tol {
                     return;
+                }
+                let (in_start, in_end) = (kept[e].origin <= first, target.origin > last);
+                if (in_start && !caps.start) || (in_end && !caps.end) {
+                    return;
+                }
+                if in_start || in_end {
+                    // A cap is cut only where the curves meet in space, not merely in the
+                    // projection (normals across the scan plane part the branches).
+                    let on_edge = kept[e - 1].p + (kept[e].p - kept[e - 1].p) * u;
+                    let on_new = from.p + (target.p - from.p) * t;
+                    if (on_edge - on_new).norm() > caps.gap {
+                        return;
+                    }
                 }
                 let c = Crossing {
                     t: t.min(1.0),
@@ -529,11 +560,22 @@ pub fn build_trajectory(
                 origin,
             })
             .collect();
+        // A cap turns in the plane of the end's normal and direction: only where that is the
+        // scan plane (within CAP_PLANE_SINE) does its crossing mean what it means in 2D.
+        let fits = |normal: &Vector3| normal.dot(&plane.normal).abs() <= CAP_PLANE_SINE;
+        let caps = Caps {
+            gap: CAP_GAP_RATIO * standoff,
+            first,
+            last,
+            start: fits(&n[0]),
+            end: fits(&n[m - 1]),
+        };
+        let result = remove_loops(&raw, tol, &caps);
         let Kept {
             nodes: mut kept,
             start_cut,
             end_cut,
-        } = remove_loops(&raw, tol, first, last);
+        } = result;
         // An uncut cap gives way to the extension.
         let mut nodes: Vec<(Point3, Vector3, PoseKind)> = Vec::with_capacity(kept.len() + 2);
         if start_cut {
