@@ -219,25 +219,29 @@ fn len2(a: [Real; 2]) -> Real {
 
 /// A uniform grid over the kept edges of the offset curve (2D), edge `i` joining kept nodes
 /// `i − 1` and `i`. Edges are removed last-in first-out, like the kept curve itself, so each
-/// cell's list is a stack too.
+/// cell's entries form a stack: a list threaded through one array, newest first.
 struct EdgeGrid {
     cell: Real,
-    cells: FxHashMap<(i64, i64), Vec<u32>>,
-    /// Cells of every registered edge, concatenated in edge order.
-    edge_cells: Vec<(i64, i64)>,
-    /// Per registered edge (edge `i` at `i − 1`): where its cells start in `edge_cells`.
+    /// Per occupied cell: its newest entry.
+    head: FxHashMap<(i64, i64), u32>,
+    /// Entries in the order added: edge, next entry of the same cell (or [`NO_ENTRY`]), cell.
+    entries: Vec<(u32, u32, (i64, i64))>,
+    /// Per registered edge (edge `i` at `i − 1`): its first entry.
     edge_start: Vec<usize>,
     /// Per edge: the last query that tested it.
     stamp: Vec<u32>,
     query: u32,
 }
 
+/// End of a cell's list of entries.
+const NO_ENTRY: u32 = u32::MAX;
+
 impl EdgeGrid {
     fn new(cell: Real) -> EdgeGrid {
         EdgeGrid {
             cell,
-            cells: FxHashMap::default(),
-            edge_cells: Vec::new(),
+            head: FxHashMap::default(),
+            entries: Vec::new(),
             edge_start: Vec::new(),
             stamp: Vec::new(),
             query: 0,
@@ -266,10 +270,11 @@ impl EdgeGrid {
     fn push(&mut self, id: usize, a: [Real; 2], b: [Real; 2], scratch: &mut Vec<(i64, i64)>) {
         debug_assert_eq!(id, self.edge_start.len() + 1);
         self.sample_cells(a, b, scratch);
-        self.edge_start.push(self.edge_cells.len());
+        self.edge_start.push(self.entries.len());
         for &c in scratch.iter() {
-            self.cells.entry(c).or_default().push(id as u32);
-            self.edge_cells.push(c);
+            let index = self.entries.len() as u32;
+            let next = self.head.insert(c, index).unwrap_or(NO_ENTRY);
+            self.entries.push((id as u32, next, c));
         }
         if self.stamp.len() <= id {
             self.stamp.resize(id + 1, 0);
@@ -277,13 +282,18 @@ impl EdgeGrid {
     }
     /// Removes every edge above `keep` (edges `keep + 1 ..`).
     fn truncate(&mut self, keep: usize) {
-        while self.edge_start.len() > keep {
-            let start = self.edge_start.pop().unwrap_or(0);
-            for c in self.edge_cells.drain(start..) {
-                if let Some(list) = self.cells.get_mut(&c) {
-                    let popped = list.pop();
-                    debug_assert_eq!(popped, Some(self.edge_start.len() as u32 + 1));
-                }
+        let Some(&start) = self.edge_start.get(keep) else {
+            return;
+        };
+        self.edge_start.truncate(keep);
+        while self.entries.len() > start {
+            let Some((_, next, c)) = self.entries.pop() else {
+                break;
+            };
+            if next == NO_ENTRY {
+                self.head.remove(&c);
+            } else {
+                self.head.insert(c, next);
             }
         }
     }
@@ -303,21 +313,29 @@ impl EdgeGrid {
         }
         self.sample_cells(a, b, scratch);
         // Two crossing segments have samples within a quarter cell of the crossing each, so
-        // their cells are neighbours.
-        for &(cx, cy) in scratch.iter() {
+        // their cells are neighbours: visit the union of the samples' 3 × 3 neighbourhoods.
+        let samples = scratch.len();
+        for k in 0..samples {
+            let (cx, cy) = scratch[k];
             for dx in -1..=1 {
                 for dy in -1..=1 {
-                    let Some(list) = self.cells.get(&(cx + dx, cy + dy)) else {
-                        continue;
-                    };
-                    for &e in list {
-                        let e = e as usize;
-                        if self.stamp[e] != self.query {
-                            self.stamp[e] = self.query;
-                            visit(e);
-                        }
-                    }
+                    scratch.push((cx + dx, cy + dy));
                 }
+            }
+        }
+        scratch.drain(..samples);
+        scratch.sort_unstable();
+        scratch.dedup();
+        for c in scratch.iter() {
+            let mut entry = self.head.get(c).copied().unwrap_or(NO_ENTRY);
+            while entry != NO_ENTRY {
+                let (e, next, _) = self.entries[entry as usize];
+                let e = e as usize;
+                if self.stamp[e] != self.query {
+                    self.stamp[e] = self.query;
+                    visit(e);
+                }
+                entry = next;
             }
         }
     }
@@ -547,6 +565,7 @@ pub fn build_trajectory(
         let t: Vec<Vector3> = (0..m)
             .map(|i| (pass.points[i + 1] - pass.points[i]).normalize())
             .collect();
+        let concave_before = counts.trimmed;
         let (raw, first, last) = raw_offset(pass, &n, &t, standoff, transition_angle, &mut counts);
         let plane = Plane::of_pass(pass.points[0], &t, &n);
         let raw: Vec<Node> = raw
@@ -570,7 +589,16 @@ pub fn build_trajectory(
             start: fits(&n[0]),
             end: fits(&n[m - 1]),
         };
-        let result = remove_loops(&raw, tol, &caps);
+        // Without a concave edge the offset only turns away from the part: no loop.
+        let result = if counts.trimmed > concave_before {
+            remove_loops(&raw, tol, &caps)
+        } else {
+            Kept {
+                nodes: raw,
+                start_cut: false,
+                end_cut: false,
+            }
+        };
         let Kept {
             nodes: mut kept,
             start_cut,
