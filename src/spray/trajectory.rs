@@ -29,12 +29,18 @@
 //!     the offsets of the two sides cross, never behind them, with the bisector of the two
 //!     axes there. Crossings are found in the projection on the pass's plane; a crossing's
 //!     position is the midpoint of the two branches' points (they coincide when the normals
-//!     lie in the scan plane).
+//!     lie in the scan plane). Only the pass's own scan polyline is kept clear: where the
+//!     normals leave the scan plane, faces of neighbouring planes may come nearer than `h`.
+//!     Passes without a concave edge skip the removal (their offset only turns away).
 //!   - An uncut cap is replaced by the pass extension (gun on, `extension` along the end
 //!     segment); a cap cut by a crossing stays (gun on, radial axis, poses of kind `Arc`):
-//!     the pass then ends by turning around its end point at the standoff. Where the whole
+//!     the pass then ends by turning around its end point at the standoff. A cap may be cut
+//!     only where the end's normal lies within [`CAP_PLANE_SINE`] of the scan plane (the cap
+//!     turns in the plane of that normal and the end direction) and the branches meet in
+//!     space (within [`CAP_GAP_RATIO`]`·h`). Where the whole
 //!     offset collapses (a concave surface of radius below `h`) the pass is the two caps up
 //!     to their crossing, at distance `h` from both pass ends.
+//!   - Normals within [`SMALL_TURN_RAD`] (rounding of `f32` coordinates) get no transition.
 //!   - A straight transition runs from the first segment's offset end (axis `−n_i`) through
 //!     its midpoint (axis `−(n_i + n_j)`, perpendicular to it as in the patent) to the next
 //!     segment's offset start (axis `−n_j`): the reorientation is spread over the
