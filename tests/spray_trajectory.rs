@@ -70,7 +70,7 @@ fn inside_l() -> ImportedMesh {
     swept(
         &polyline(&[[0.0, 600.0], [0.0, 0.0], [600.0, 0.0]], 10.0),
         200.0,
-        20,
+        4,
     )
 }
 
@@ -205,7 +205,7 @@ fn v_grooves_turn_on_their_bisector_at_the_standoff() {
         let m = swept(
             &polyline(&[[-arm * s, arm * c], [0.0, 0.0], [arm * s, arm * c]], 10.0),
             150.0,
-            10,
+            3,
         );
         let (path, counts) = trajectory(&m, &params(), 50.0);
         let pass_count = path.pass_count();
@@ -255,7 +255,7 @@ fn half_pipe(rho: f64) -> ImportedMesh {
             [-rho * a.cos(), -rho * a.sin()]
         })
         .collect();
-    swept(&profile, 150.0, 10)
+    swept(&profile, 150.0, 3)
 }
 
 #[test]
@@ -348,7 +348,7 @@ fn roof(beta: f64) -> ImportedMesh {
             10.0,
         ),
         150.0,
-        10,
+        3,
     )
 }
 
@@ -422,7 +422,7 @@ fn cylinder_panel(rc: f64, half: f64, length: f64, facets: usize, inward: bool) 
     if !inward {
         profile.reverse();
     }
-    swept(&profile, length, 12)
+    swept(&profile, length, 4)
 }
 
 fn plan_all(m: &ImportedMesh, p: &SprayParams) -> skinpath::spray::SprayPlan {
@@ -519,7 +519,7 @@ fn spreading_the_turn_over_the_transition_keeps_the_predicted_thickness() {
     // transition at every facet edge. The thickness of the motion the program now commands
     // and of the old one (which turned on the spot, a move the model gives no time) differ by
     // less than the model's own agreement with a direct integration (0.3 % of the peak in
-    // tests/spray.rs), both integrated directly here in 1 mm steps.
+    // tests/spray.rs), both integrated directly here in steps of 2 mm.
     {
         let inward = false;
         let m = cylinder_panel(1500.0, 0.4, 600.0, 60, inward);
@@ -570,7 +570,7 @@ fn spreading_the_turn_over_the_transition_keeps_the_predicted_thickness() {
     }
 }
 
-/// Thickness at `samples[inside]` by time steps of 1 mm along every gun-on move, position
+/// Thickness at `samples[inside]` by time steps of at most 2 mm along every gun-on move, position
 /// linear and axis normalised-linear between poses (the motion the program commands).
 fn direct(
     path: &ToolPath,
@@ -585,7 +585,7 @@ fn direct(
             continue;
         }
         let d = w[1].position - w[0].position;
-        let steps = d.norm().ceil().max(1.0) as usize;
+        let steps = (d.norm() / 2.0).ceil().max(1.0) as usize;
         let dt = d.norm() / steps as f64 / speed;
         for s in 0..steps {
             let f = (s as f64 + 0.5) / steps as f64;
