@@ -6,7 +6,10 @@
 //! nearest the tool (zig-zag) or run the same way as the first open line (one direction);
 //! closed lines start at their point nearest the tool and turn like the first loop (one
 //! direction) or alternately (zig-zag), and end back at their first point. Between passes a
-//! `Link` pose (process off) moves to the next pass's first point.
+//! `Link` pose (process off) moves to the next pass's first point, where the pass starts;
+//! consecutive points of a line that coincide (within a millionth of the spacing) are one
+//! pose, and a line that shrinks to one point is left out, so no process-on move has zero
+//! length.
 //! Cost: O(F) per level for the mesh method plus O(P²) over the P lines of one level for
 //! the nearest-line choice (P is small: the pieces of one level).
 
@@ -26,6 +29,8 @@ pub const MAX_LEVELS: u32 = 100_000;
 const SAMPLES_PER_EDGE: Real = 2.0;
 /// Default voxel edge, in mean edge lengths.
 const DEFAULT_VOXEL_PER_EDGE: Real = 0.25;
+/// Consecutive points of a pass closer than this multiple of the spacing are merged.
+const SAME_POSITION_RATIO: Real = 1e-6;
 /// Default snapping distance, in mean edge lengths.
 const DEFAULT_SNAP_EDGES: Real = 5.0;
 
@@ -175,25 +180,41 @@ impl DistanceField {
     ) -> Result<ToolPath, GeodesicError> {
         let lines = self.iso_lines(mesh, adjacency, params)?;
         let ordered = link(lines, params.order);
+        // Consecutive points closer than this are one: the tool must not turn on the spot with
+        // the process on (a controller runs that as a dwell).
+        let tol = SAME_POSITION_RATIO * params.spacing;
         let mut poses = Vec::new();
-        for (pass, line) in ordered.iter().enumerate() {
+        let mut pass = 0;
+        for line in &ordered {
             let tangents = line.tangents();
             let mut idx: Vec<usize> = (0..line.points.len()).collect();
             if line.closed {
                 idx.push(0);
             }
-            for (j, &i) in idx.iter().enumerate() {
+            let mut trace: Vec<usize> = Vec::with_capacity(idx.len());
+            for i in idx {
+                let moves = trace
+                    .last()
+                    .is_none_or(|&k| (line.points[i] - line.points[k]).norm() > tol);
+                if moves {
+                    trace.push(i);
+                }
+            }
+            if trace.len() < 2 {
+                // A line shorter than the tolerance: nothing to trace, only a dwell.
+                continue;
+            }
+            for (j, &i) in trace.iter().enumerate() {
+                // The link arrives at the pass's first point with the process off; the pass
+                // starts from there.
                 let kind = if j == 0 && pass > 0 {
                     PoseKind::Link
                 } else {
                     PoseKind::Pass
                 };
-                if j == 0 && pass > 0 {
-                    // Link to the start, then the pass itself starts there.
-                    poses.push(pose(line, &tangents, i, kind, pass));
-                }
-                poses.push(pose(line, &tangents, i, PoseKind::Pass, pass));
+                poses.push(pose(line, &tangents, i, kind, pass));
             }
+            pass += 1;
         }
         let path = ToolPath {
             poses,
@@ -204,7 +225,7 @@ impl DistanceField {
                 "geodesic passes: {} method, spacing {}, {} passes",
                 self.method.name(),
                 params.spacing,
-                ordered.len()
+                pass
             )],
         };
         path.validate().map_err(|e| {
