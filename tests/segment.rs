@@ -5,7 +5,7 @@ mod common;
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-use common::{binary_stl, check_invariants, cylinder, import, plane, refined_cube};
+use common::{binary_stl, check_invariants, cylinder, import, plane, refined_cube, Tri};
 use skinpath::segment::{
     grind_curvature_threshold, grow_regions, planarise, seed_order, segment, spray_angle_threshold,
     Criterion, GrindParams, GrowthThreshold, ParamError, ParamsSpec, SeedRule, SegmentParams,
@@ -516,5 +516,32 @@ fn theta_max_of_pi_keeps_its_promise_on_a_nearly_closed_patch() {
         };
         let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
         check_invariants(&m, &seg, PI, 0.0);
+    }
+}
+
+#[test]
+fn a_patch_of_degenerate_faces_is_dropped_and_every_patch_reads_back() {
+    // A needle far larger in area than the healthy faces but 4e-8 of its length thick, and
+    // a small open fan: with no area threshold, the needle alone used to be patch 0, whose
+    // STL no reader accepts (all its triangles degenerate).
+    let needle: Tri = [[0.0, 0.0, 5.0], [1000.0, 0.0, 5.0], [500.0, 4e-5, 5.0]];
+    let mut triangles = vec![needle];
+    triangles.extend(plane(0.1, 0.1, 2));
+    let m = import(&binary_stl(&triangles));
+    assert_eq!(m.report.degenerate_triangles, 1);
+    let f = (0..m.mesh.triangle_count())
+        .find(|&f| m.geometry.is_degenerate(f))
+        .unwrap();
+    assert!(m.geometry.areas()[f] > 0.5 * m.geometry.total_area());
+    let p = params(Criterion::Angle { alpha_rad: 0.1 }, 0.2, 0.0);
+    let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
+    assert_eq!(seg.patch_of[f], skinpath::segment::DROPPED);
+    assert_eq!(seg.dropped_count(), 1);
+    check_invariants(&m, &seg, p.theta_max_rad, p.min_area_ratio);
+    assert!(!seg.patches.is_empty());
+    for patch in &seg.patches {
+        let back = import(&seg.patch_stl(&m.mesh, patch.id).unwrap());
+        assert_eq!(back.report.triangles, patch.triangle_count);
+        assert_eq!(back.report.area.to_bits(), patch.area.to_bits());
     }
 }
