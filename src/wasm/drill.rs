@@ -352,6 +352,6 @@ impl Mesh {
 impl Mesh {
     /// The mesh index for ray casts and closest points, built on first use.
     pub(super) fn drill_index(&self) -> std::rc::Rc<MeshIndex> {
-        super::mesh::index_of(&self.index, &self.inner)
+        super::index::index_of(&self.index, &self.inner)
     }
 }
