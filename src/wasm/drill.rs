@@ -1,9 +1,10 @@
 //! Drilling-hole correction for JavaScript: `normalFromLasers`, `correctHoles`, and the
 //! `Mesh` methods `laserReadings`, `closestPoints`, `correctHoles` and `drillingProgram`, the
 //! hole-list reader `parseHolesCsv` and the paper's example `drillPaperExample` (the mesh index is built
-//! on first use and kept with the `Mesh`). `correctHoles(params, mesh?)` is split into the
-//! free function and the method because wasm-bindgen cannot borrow an optional `Mesh`
-//! (`Option<&Mesh>`); taking `Option<Mesh>` would consume the caller's handle.
+//! on first use and kept with the `Mesh`). Correction with and without a panel mesh is split
+//! into the method and the free function because wasm-bindgen cannot borrow an optional
+//! `Mesh` (`Option<&Mesh>`); taking `Option<Mesh>` would consume the caller's handle. The
+//! glue refuses `correctHoles(params, mesh)` and points to `mesh.correctHoles(params)`.
 
 use super::params::{read_number_list, ParamReader};
 use super::Mesh;
