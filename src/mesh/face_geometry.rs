@@ -28,10 +28,10 @@ fn from_smallest_corner([a, b, c]: [Point3; 3]) -> [Point3; 3] {
 
 /// Unit normal (zero when degenerate), area and centroid of the face with corners
 /// `[a, b, c]` in that winding. The normal, area and degeneracy do not depend on which
-/// corner the winding starts at (see [`from_smallest_corner`]); the centroid sums the
-/// corners in the order given.
+/// corner the winding starts at (see [`from_smallest_corner`]), and reversing the winding
+/// negates the normal exactly.
 #[inline(always)]
-fn measure(corners: [Point3; 3]) -> (Vector3, Real, Point3) {
+pub(crate) fn measure(corners: [Point3; 3]) -> (Vector3, Real, Point3) {
     let [a, b, c] = corners;
     let centroid = centroid(a, b, c);
     let [a, b, c] = from_smallest_corner(corners);
@@ -51,10 +51,11 @@ fn measure(corners: [Point3; 3]) -> (Vector3, Real, Point3) {
     (normal, 0.5 * twice_area, centroid)
 }
 
-/// Mean of three corners, summed in the order given.
+/// Mean of three corners, `(a + (b + c)) / 3`: the same for `[a, c, b]`, so that turning a
+/// face (which swaps corners 1 and 2) keeps its centroid bit for bit.
 #[inline]
 fn centroid(a: Point3, b: Point3, c: Point3) -> Point3 {
-    Point3::from((a.coords + b.coords + c.coords) / 3.0)
+    Point3::from((a.coords + (b.coords + c.coords)) / 3.0)
 }
 
 /// Unit normal, area and centroid of every face, indexed by face id.
@@ -98,6 +99,17 @@ impl FaceGeometry {
         self.normals.push(normal);
         self.areas.push(area);
         self.centroids.push(centroid);
+    }
+
+    /// Records that face `f` was turned (corners 1 and 2 swapped) after it was measured:
+    /// `corners` are its corners in the new winding. Only the normal changes (area and
+    /// centroid do not depend on the winding, see `measure`); it is measured again rather
+    /// than negated, since a zero component keeps its sign rule (`x − x = +0` both ways).
+    #[inline]
+    pub(crate) fn turn(&mut self, f: usize, corners: [Point3; 3]) {
+        let (normal, area, centroid) = measure(corners);
+        debug_assert!(area == self.areas[f] && centroid == self.centroids[f]);
+        self.normals[f] = normal;
     }
 
     /// Number of faces.
