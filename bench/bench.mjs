@@ -5,7 +5,9 @@
 // a box of integer-coordinate grids (structured bit patterns: the welding hash's stress
 // case), a fan of triangles around one vertex (a disc tessellated from its centre, as CAD
 // exports cap cylinders) and a "book" of triangles on one edge (the high-valence cases that
-// once made the adjacency quadratic) — then measures in one process:
+// once made the adjacency quadratic) and an aircraft-like file of several shells (fuselage,
+// wings, tails, open nacelles; mixed windings, slivers; see aircraftStl) — then measures in one
+// process:
 //   - Mesh.fromStl (parse, weld, adjacency, winding, face geometry)
 //   - mesh.segment with the paper's parameters (α 0.35 rad, θmax 1 rad, ε 10 %)
 //   - three.js STLLoader.parse of the same bytes (a plain, unwelded parse) for comparison
@@ -31,8 +33,8 @@ import { dirname, join } from 'node:path';
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_000],
   ['fuselage', 2_000_000], ['fuselage', 4_000_000], ['grid', 1_000_000], ['fan', 80_000],
-  ['fan', 1_000_000], ['book', 50_000]];
-const SHAPES = ['fuselage', 'grid', 'fan', 'book'];
+  ['fan', 1_000_000], ['book', 50_000], ['aircraft', 1_000_000], ['aircraft', 4_000_000]];
+const SHAPES = ['fuselage', 'grid', 'fan', 'book', 'aircraft'];
 const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000").split(",").map(Number);
 const GEODESIC_CASES = (process.env.GEODESIC_CASES ?? "cylinder:200000,cylinder:2000000,wave:500000")
   .split(",").map((c) => { const [shape, size] = c.split(":"); return [shape, Number(size)]; });
@@ -91,7 +93,111 @@ export function bookStl(target) {
   return toBinaryStl(tris);
 }
 
-const GENERATORS = { fuselage: fuselageStl, grid: gridBoxStl, fan: fanStl, book: bookStl };
+/**
+ * An aircraft-like file of about `target` triangles in several shells, as CAD exports them:
+ * a closed fuselage (40 %), two closed tapered wings (15 % each, the left one written with
+ * the opposite winding), a horizontal and a vertical tail (6 % each, closed), two open
+ * engine nacelles (9 % each, open at both ends: boundary edges) and a little of what real
+ * files carry: about 1 face in 200 of the wings written reversed (mixed windings inside a
+ * shell), and 0.5 % slivers (needle triangles between existing corners, some below the
+ * degeneracy ratio) along the fuselage. Deterministic (a fixed linear congruential seed).
+ */
+export function aircraftStl(target) {
+  let seed = 0x2545f491;
+  const random = () => ((seed = (Math.imul(seed, 1664525) + 1013904223) >>> 0) / 2 ** 32);
+  const tris = [];
+  // A grid of quads u ∈ [0, nu), v ∈ [0, nv] over `point(u, v)`, closed in u.
+  const sheet = (count, point, { reverse = false, flipShare = 0, closeV = false } = {}) => {
+    const nu = Math.max(8, Math.round(Math.sqrt(count / 2) * 1.6));
+    const nv = Math.max(2, Math.round(count / (2 * nu)));
+    for (let j = 0; j < nv; j++) {
+      for (let i = 0; i < nu; i++) {
+        const a = point(i % nu, j), b = point((i + 1) % nu, j), c = point((i + 1) % nu, j + 1), d = point(i % nu, j + 1);
+        for (let t of [[a, b, c], [a, c, d]]) {
+          if (reverse !== (random() < flipShare)) t = [t[0], t[2], t[1]];
+          tris.push(t);
+        }
+      }
+    }
+    if (closeV) {
+      // Caps: a fan from the centre of each end ring.
+      for (const j of [0, nv]) {
+        const ring = Array.from({ length: nu }, (_, i) => point(i, j));
+        const centre = [0, 1, 2].map((k) => ring.reduce((s, p) => s + p[k], 0) / nu);
+        for (let i = 0; i < nu; i++) {
+          const t = j === 0 ? [centre, ring[(i + 1) % nu], ring[i]] : [centre, ring[i], ring[(i + 1) % nu]];
+          tris.push(reverse ? [t[0], t[2], t[1]] : t);
+        }
+      }
+    }
+    return { nu, nv };
+  };
+  // Fuselage: 40 m long, radius 2.5 m, rounded nose and tapering tail (closed at both tips).
+  const fuselage = Math.round(target * 0.4);
+  {
+    const around = Math.max(8, Math.round(Math.sqrt(fuselage)));
+    const along = Math.max(4, Math.round(fuselage / (2 * around)));
+    const point = (i, j) => {
+      const t = j / along;
+      const r = t === 0 || t === 1 ? 0 : 2.5 * Math.min(1, Math.sqrt(t / 0.12), Math.sqrt((1 - t) / 0.25));
+      const a = (2 * Math.PI * (i % around)) / around;
+      return [t * 40, r * Math.cos(a), r * Math.sin(a) + 0.3 * t];
+    };
+    for (let j = 0; j < along; j++) {
+      for (let i = 0; i < around; i++) {
+        const a = point(i, j), b = point(i + 1, j), c = point(i + 1, j + 1), d = point(i, j + 1);
+        if (j > 0) tris.push([a, c, b]);
+        if (j < along - 1) tris.push([a, d, c]);
+        // Slivers: a needle from a corner to the middle of the opposite edge, nearly flat.
+        if (j > 0 && j < along - 1 && random() < 0.005) {
+          const m = [0, 1, 2].map((k) => 0.5 * (b[k] + c[k]) + (random() < 0.5 ? 1e-9 : 1e-6) * (a[k] - b[k]));
+          tris.push([b, m, c]);
+        }
+      }
+    }
+  }
+  // An airfoil-like closed section (NACA-style thickness 12 %) swept from `root` to `tip`.
+  const wing = (count, rootX, rootChord, tipChord, span, sweep, dihedral, side, axis, options) => {
+    const section = (u) => {
+      const s = (2 * u) / nu; // 0..2 around the section
+      const x = s <= 1 ? 1 - s : s - 1;
+      const thickness = 0.6 * (0.2969 * Math.sqrt(x) - 0.126 * x - 0.3516 * x * x + 0.2843 * x ** 3 - 0.1036 * x ** 4);
+      return [x, s <= 1 ? thickness : -thickness];
+    };
+    let nu = 0, nv = 0;
+    const point = (i, j) => {
+      const t = Math.min(j / nv, 1);
+      const chord = rootChord + (tipChord - rootChord) * t;
+      const [x, y] = section(i);
+      const along = rootX + sweep * t + x * chord;
+      const out = side * span * t;
+      const up = y * chord + dihedral * t;
+      return axis === 'y' ? [along, out + side * 2.4, up] : [along, y * chord, 2.4 + span * t];
+    };
+    // The grid size is decided before the points are needed.
+    nu = Math.max(8, Math.round(Math.sqrt(count / 2) * 1.6));
+    nv = Math.max(2, Math.round(count / (2 * nu)));
+    sheet(count, point, { ...options, closeV: true });
+  };
+  wing(Math.round(target * 0.15), 14, 7, 2, 17, 6, 1.2, 1, 'y', { flipShare: 0.005 });
+  wing(Math.round(target * 0.15), 14, 7, 2, 17, 6, 1.2, -1, 'y', { reverse: true, flipShare: 0.005 });
+  wing(Math.round(target * 0.06), 35, 3, 1.2, 6, 2, 0.3, 1, 'y', {});
+  wing(Math.round(target * 0.06), 34, 4, 2, 6, 3, 0, 1, 'z', {});
+  // Nacelles: open tubes under the wings (their rims are boundary edges).
+  for (const side of [1, -1]) {
+    const count = Math.round(target * 0.09);
+    const nu = Math.max(8, Math.round(Math.sqrt(count / 2) * 1.6));
+    const nv = Math.max(2, Math.round(count / (2 * nu)));
+    sheet(count, (i, j) => {
+      const a = (2 * Math.PI * i) / nu;
+      const r = 1.1 - 0.15 * Math.sin((Math.PI * j) / nv);
+      return [12 + (4.5 * j) / nv, side * 7 + r * Math.cos(a), -1.6 + r * Math.sin(a)];
+    });
+  }
+  return toBinaryStl(tris);
+}
+
+const GENERATORS = { fuselage: fuselageStl, grid: gridBoxStl, fan: fanStl, book: bookStl, aircraft: aircraftStl };
 
 /** A closed surface of revolution (nose, barrel, tail cone) with about `target` triangles. */
 export function fuselageStl(target) {
@@ -361,7 +467,7 @@ if (geodesicArg > 0) {
   process.stdout.write(JSON.stringify(result));
 } else if (isMain) {
   // `npm run bench -- 50000 fuselage 300000 grid 80000 fan` runs only those cases (shapes:
-  // fuselage, grid, fan, book).
+  // fuselage, grid, fan, book, aircraft).
   const args = process.argv.slice(2);
   const chosen = [];
   for (let i = 0; i < args.length; i++) {

@@ -31,6 +31,11 @@ function run(cmd, args) {
   }
 }
 
+// Where a call with an argument too many most likely meant to go instead.
+const EXTRA_ARGUMENT_HINTS = {
+  correctHoles: 'to project the corrected holes onto a panel, call mesh.correctHoles(params) on the Mesh',
+};
+
 // What each exported class's use after free() should tell the user to do instead.
 const AGAIN = {
   Mesh: 'load the file again', Segmentation: 'segment the mesh again',
@@ -44,7 +49,10 @@ const AGAIN = {
  * - free() twice does nothing the second time;
  * - free() called while a method of the same object is running (from its onProgress
  *   callback) waits until that method returns, instead of failing inside wasm;
- * - calls nested through onProgress callbacks are refused beyond a small depth.
+ * - calls nested through onProgress callbacks are refused beyond a small depth;
+ * - a call of an exported function, method or static method with more arguments than it
+ *   declares throws `Error("correctHoles() takes at most 1 argument (params), got 2: …")` unless the
+ *   extra ones are undefined (wasm-bindgen would drop them without a word).
  * It relies on wasm-bindgen's `__wbg_ptr` field and `free()` method, checked here so that a
  * wasm-bindgen upgrade that renames them fails the build rather than the guard.
  */
@@ -55,13 +63,38 @@ function guardGlue(file) {
     fail(`${file} does not look like wasm-bindgen 0.2 glue (exported classes with __wbg_ptr and free()); update guardGlue in scripts/build.mjs`);
   }
   const calls = classes.map((c) => `guardFreed(${c}, ${JSON.stringify(c)}, ${JSON.stringify(AGAIN[c] ?? `create a new ${c}`)});`);
+  // Exported functions are function declarations: reassigning one updates the live export.
+  const functions = [...glue.matchAll(/^export function (\w+)\(/gm)].map((m) => m[1]);
+  if (functions.length === 0) fail(`${file} exports no function; update guardGlue in scripts/build.mjs`);
+  const wrapped = functions.map((f) => `${f} = checkedArity(${f}, ${JSON.stringify(f)});`);
   appendFileSync(file, `
 // Added by scripts/build.mjs (guardGlue): use after free() names the problem, free() is
 // idempotent, free() from inside a running method of the same object is deferred, and calls
 // nest through onProgress callbacks at most MAX_NESTING deep (unbounded nesting would end in
-// a stack overflow thrown inside wasm, which leaves Rust borrows taken).
+// a stack overflow thrown inside wasm, which leaves Rust borrows taken); a call with more
+// arguments than declared is refused unless the extra ones are undefined.
 const MAX_NESTING = 4;
 let nesting = 0;
+const EXTRA_ARGUMENT_HINTS = ${JSON.stringify(EXTRA_ARGUMENT_HINTS)};
+function checkArgs(f, what, args) {
+  if (args.length <= f.length || args.slice(f.length).every((a) => a === undefined)) return;
+  const declared = /^[^(]*\\(([^)]*)\\)/.exec(String(f))?.[1].trim() ?? '';
+  const n = f.length;
+  const hint = EXTRA_ARGUMENT_HINTS[what];
+  throw new Error(\`\${what}() takes \${n === 0 ? 'no arguments' : \`at most \${n} argument\${n === 1 ? '' : 's'} (\${declared})\`}, got \${args.length}: \${hint ?? 'the extra ones would be ignored'}\`);
+}
+// A wrapper keeps the name and declared arity (\`length\`) of the function it wraps.
+function like(wrapper, f) {
+  Object.defineProperty(wrapper, 'name', { value: f.name });
+  Object.defineProperty(wrapper, 'length', { value: f.length });
+  return wrapper;
+}
+function checkedArity(f, what) {
+  return like(function (...args) {
+    checkArgs(f, what, args);
+    return f.apply(this, args);
+  }, f);
+}
 function guardFreed(cls, name, again) {
   const proto = cls.prototype;
   const running = new WeakMap();
@@ -74,16 +107,18 @@ function guardFreed(cls, name, again) {
     }
     nesting++;
   };
-  const guardStatic = (f, what) => function (...args) {
+  const guardStatic = (f, what) => like(function (...args) {
+    checkArgs(f, \`\${name}.\${what}\`, args);
     enter(what);
     try {
       return f.apply(this, args);
     } finally {
       nesting--;
     }
-  };
-  const guard = (f, what) => function (...args) {
+  }, f);
+  const guard = (f, what) => like(function (...args) {
     if (!this.__wbg_ptr || freeLater.has(this)) throw freed();
+    checkArgs(f, \`\${name}.\${what}\`, args);
     enter(what);
     running.set(this, (running.get(this) ?? 0) + 1);
     try {
@@ -97,7 +132,7 @@ function guardFreed(cls, name, again) {
         if (freeLater.delete(this)) rawFree.call(this);
       }
     }
-  };
+  }, f);
   for (const key of Object.getOwnPropertyNames(proto)) {
     if (key === 'constructor' || key === 'free' || key.startsWith('__')) continue;
     const d = Object.getOwnPropertyDescriptor(proto, key);
@@ -120,8 +155,9 @@ function guardFreed(cls, name, again) {
   if (typeof Symbol.dispose === 'symbol' && proto[Symbol.dispose]) proto[Symbol.dispose] = free;
 }
 ${calls.join('\n')}
+${wrapped.join('\n')}
 `);
-  console.error(`build: guarded ${classes.join(', ')} against use after free()`);
+  console.error(`build: guarded ${classes.join(', ')} against use after free(), and every export against extra arguments`);
 }
 
 /** Fails at once, in one line, when a tool the build needs is missing (a fresh clone). */

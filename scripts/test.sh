@@ -15,6 +15,9 @@ if grep -rln "wasm_bindgen" src | grep -v '^src/wasm/' | grep -v '^src/lib.rs$';
   echo "wasm_bindgen is used outside src/wasm/ (files above)" >&2; exit 1
 fi
 
+step "no circular imports between the modules of src/wasm/"
+node scripts/wasm-deps.mjs
+
 step "clippy (native, and with the wasm feature)"
 cargo clippy --all-targets -- -D warnings
 cargo clippy --all-targets --features wasm -- -D warnings

@@ -660,3 +660,62 @@ fn imported_geometry_is_bit_identical_to_a_fresh_computation() {
     let turned = [&tetra_bytes, &reversed_bytes].map(|b| import(b).report.flipped_triangles);
     assert_eq!(turned.iter().sum::<usize>(), 4);
 }
+
+#[test]
+fn slivers_are_judged_alike_in_every_vertex_order_and_after_writing_and_reading() {
+    use skinpath::mesh::TriMesh;
+    // Slivers around the degeneracy ratio (1e-7 of the longest edge) and a healthy face,
+    // with corners that are not round numbers so the edge vectors from each corner round
+    // differently.
+    let (a, b, n) = ([0.1, 0.7, -0.3], [1.3, 1.1, 0.4], [0.2, -0.5, 0.1]);
+    let length = (0..3)
+        .map(|k| (b[k] - a[k]) * (b[k] - a[k]))
+        .sum::<f64>()
+        .sqrt();
+    let n_length = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let orders = [
+        [0, 1, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [0, 2, 1],
+        [2, 1, 0],
+        [1, 0, 2],
+    ];
+    for ratio in [0.3e-7, 0.5e-7, 1e-7, 1.5e-7, 2e-7, 1e-3] {
+        let f32s = |p: [f64; 3]| p.map(|x| x as f32);
+        let c =
+            std::array::from_fn(|k| a[k] + 0.37 * (b[k] - a[k]) + ratio * length * n[k] / n_length);
+        let corners: [[f32; 3]; 3] = [f32s(a), f32s(b), f32s(c)];
+        let measured: Vec<(bool, u64, [u64; 3])> = orders
+            .iter()
+            .map(|order| {
+                let positions = order
+                    .iter()
+                    .map(|&i| corners[i].map(f64::from).into())
+                    .collect();
+                let mesh = TriMesh::new(positions, vec![[0, 1, 2]]).unwrap();
+                let g = FaceGeometry::new(&mesh);
+                // Odd permutations reverse the winding: the normal is exactly negated.
+                let sign = if order[1] == (order[0] + 1) % 3 {
+                    1.0
+                } else {
+                    -1.0
+                };
+                let normal = (g.normals()[0] * sign).map(|x| (x + 0.0).to_bits());
+                // Written as STL and read back (the f32 round trip a patch export makes).
+                let back = read_stl(&write_stl(std::iter::once(mesh.corners(0)))).unwrap();
+                let again = FaceGeometry::new(&back.mesh);
+                assert_eq!(again.is_degenerate(0), g.is_degenerate(0), "ratio {ratio}");
+                assert_eq!(again.areas()[0].to_bits(), g.areas()[0].to_bits());
+                (g.is_degenerate(0), g.areas()[0].to_bits(), normal.into())
+            })
+            .collect();
+        assert!(
+            measured.iter().all(|m| *m == measured[0]),
+            "ratio {ratio}: {measured:?}"
+        );
+        if ratio != 1e-7 {
+            assert_eq!(measured[0].0, ratio < 1e-7, "ratio {ratio}");
+        }
+    }
+}

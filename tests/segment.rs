@@ -5,7 +5,7 @@ mod common;
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-use common::{binary_stl, check_invariants, cylinder, import, plane, refined_cube};
+use common::{binary_stl, check_invariants, cylinder, import, plane, refined_cube, Tri};
 use skinpath::segment::{
     grind_curvature_threshold, grow_regions, planarise, seed_order, segment, spray_angle_threshold,
     Criterion, GrindParams, GrowthThreshold, ParamError, ParamsSpec, SeedRule, SegmentParams,
@@ -517,4 +517,97 @@ fn theta_max_of_pi_keeps_its_promise_on_a_nearly_closed_patch() {
         let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
         check_invariants(&m, &seg, PI, 0.0);
     }
+}
+
+#[test]
+fn a_patch_of_degenerate_faces_is_dropped_and_every_patch_reads_back() {
+    // A needle far larger in area than the healthy faces but 4e-8 of its length thick, and
+    // a small open fan: with no area threshold, the needle alone used to be patch 0, whose
+    // STL no reader accepts (all its triangles degenerate).
+    let needle: Tri = [[0.0, 0.0, 5.0], [1000.0, 0.0, 5.0], [500.0, 4e-5, 5.0]];
+    let mut triangles = vec![needle];
+    triangles.extend(plane(0.1, 0.1, 2));
+    let m = import(&binary_stl(&triangles));
+    assert_eq!(m.report.degenerate_triangles, 1);
+    let f = (0..m.mesh.triangle_count())
+        .find(|&f| m.geometry.is_degenerate(f))
+        .unwrap();
+    assert!(m.geometry.areas()[f] > 0.5 * m.geometry.total_area());
+    let p = params(Criterion::Angle { alpha_rad: 0.1 }, 0.2, 0.0);
+    let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
+    assert_eq!(seg.patch_of[f], skinpath::segment::DROPPED);
+    assert_eq!(seg.dropped_count(), 1);
+    check_invariants(&m, &seg, p.theta_max_rad, p.min_area_ratio);
+    assert!(!seg.patches.is_empty());
+    for patch in &seg.patches {
+        let back = import(&seg.patch_stl(&m.mesh, patch.id).unwrap());
+        assert_eq!(back.report.triangles, patch.triangle_count);
+        assert_eq!(back.report.area.to_bits(), patch.area.to_bits());
+    }
+}
+
+/// FNV-1a, 64 bit, over 64-bit words.
+fn fnv1a(words: impl IntoIterator<Item = u64>) -> u64 {
+    words.into_iter().fold(0xcbf2_9ce4_8422_2325, |h, w| {
+        w.to_le_bytes()
+            .iter()
+            .fold(h, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+    })
+}
+
+/// Import and segmentation of a file of several shells with mixed windings (the winding
+/// propagation path), a sliver and an open tube give the same bits natively and in
+/// WebAssembly: face geometry, report, patch ids and patch statistics. The constant was
+/// computed natively; the same test runs in WebAssembly.
+#[test]
+fn a_mixed_multi_shell_file_segments_bit_identically_natively_and_in_webassembly() {
+    let mut triangles: Vec<Tri> = common::sphere(1.0, 24, 12)
+        .into_iter()
+        .enumerate()
+        .map(|(i, [a, b, c])| if i % 7 == 3 { [a, c, b] } else { [a, b, c] })
+        .collect();
+    triangles.extend(
+        cylinder(0.4, 2.0, 16, 6)
+            .into_iter()
+            .map(|t| t.map(|p| [p[0] + 3.0, p[1], p[2]])),
+    );
+    triangles.push([[3.4, 0.0, 0.0], [3.4, 0.0, 2.0], [3.4, 1e-9, 1.0]]);
+    let m = import(&binary_stl(&triangles));
+    assert!(m.report.flipped_triangles > 0 && m.report.boundary_edges > 0);
+    let mut words: Vec<u64> = vec![
+        m.report.triangles as u64,
+        m.report.vertices as u64,
+        m.report.area.to_bits(),
+        m.report.flipped_triangles as u64,
+        m.report.degenerate_triangles as u64,
+    ];
+    words.extend(m.mesh.triangles().iter().flatten().map(|&v| u64::from(v)));
+    let g = &m.geometry;
+    words.extend(
+        g.normals()
+            .iter()
+            .flat_map(|n| [n.x, n.y, n.z])
+            .map(f64::to_bits),
+    );
+    words.extend(g.areas().iter().map(|a| a.to_bits()));
+    words.extend(
+        g.centroids()
+            .iter()
+            .flat_map(|c| [c.x, c.y, c.z])
+            .map(f64::to_bits),
+    );
+    for p in [
+        SegmentParams::default(),
+        params(Criterion::Curvature { kappa: 2.0 }, 0.8, 0.0),
+    ] {
+        let seg = segment(&m.adjacency, &m.geometry, &p).unwrap();
+        check_invariants(&m, &seg, p.theta_max_rad, p.min_area_ratio);
+        words.extend(seg.patch_of.iter().map(|&id| id as u64));
+        for patch in &seg.patches {
+            words.extend(patch.normal.map(f64::to_bits));
+            words.extend(patch.centroid.map(f64::to_bits));
+            words.extend([patch.area.to_bits(), patch.max_deviation.to_bits()]);
+        }
+    }
+    assert_eq!(fnv1a(words), 1777039588872582601, "fingerprint");
 }

@@ -318,19 +318,26 @@ fn a_gentle_convex_fold_gets_straight_transitions_perpendicular_to_the_axis() {
     let plan = plan(&m, &p).unwrap();
     assert_eq!(plan.counts.straight, plan.pass_count);
     assert_eq!(plan.counts.arcs, 0);
+    // Each transition runs a (one face's normal) → the chord's middle (bisector axis,
+    // perpendicular to the chord) → b (the other face's normal): no turn on the spot.
     let poses = &plan.path.poses;
-    let mut pairs = 0;
-    for w in poses.windows(2) {
-        if w[0].kind == PoseKind::StraightTransition && w[1].kind == PoseKind::StraightTransition {
-            let chord = w[1].position - w[0].position;
+    let mut transitions = 0;
+    for w in poses.windows(3) {
+        if w[1].kind == PoseKind::StraightTransition && w[2].kind == PoseKind::StraightTransition {
+            let chord = w[2].position - w[0].position;
             assert!(chord.norm() > 1.0);
-            assert_near!(w[0].axis.dot(&chord), 0.0, 1e-9);
-            assert_eq!(w[0].axis, w[1].axis);
-            assert!(w[0].axis.z < -0.9, "towards the part");
-            pairs += 1;
+            let middle = (w[0].position.coords + w[2].position.coords) * 0.5;
+            assert_near!(
+                (w[1].position.coords - middle).norm(),
+                0.0,
+                1e-9 * chord.norm()
+            );
+            assert_near!(w[1].axis.dot(&chord), 0.0, 1e-9 * chord.norm());
+            assert!(w[1].axis.z < -0.9, "towards the part");
+            transitions += 1;
         }
     }
-    assert_eq!(pairs, plan.pass_count);
+    assert_eq!(transitions, plan.pass_count);
 }
 
 #[test]

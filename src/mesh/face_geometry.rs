@@ -3,10 +3,38 @@
 use super::TriMesh;
 use crate::math::{larger, Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
 
-/// Unit normal (zero when degenerate), area and centroid of the face with corners
-/// `[a, b, c]` in that winding.
+/// Whether `p` comes before `q` or equals it, comparing x, then y, then z (no NaN here).
 #[inline(always)]
-fn measure([a, b, c]: [Point3; 3]) -> (Vector3, Real, Point3) {
+fn lexicographic_le(p: &Point3, q: &Point3) -> bool {
+    p.x < q.x || (p.x == q.x && (p.y < q.y || (p.y == q.y && p.z <= q.z)))
+}
+
+/// The corners turned (keeping the winding) so that the lexicographically smallest comes
+/// first. Edge vectors from that corner do not depend on where the file starts the face,
+/// and reversing the winding then only negates the cross product exactly, so the
+/// degeneracy test, the area and the normal (up to its sign) are the same for every vertex
+/// order: a face written out and read back is judged as before. Corners that tie are equal
+/// in value, and any choice among them gives a zero cross product.
+#[inline(always)]
+fn from_smallest_corner([a, b, c]: [Point3; 3]) -> [Point3; 3] {
+    if lexicographic_le(&a, &b) && lexicographic_le(&a, &c) {
+        [a, b, c]
+    } else if lexicographic_le(&b, &c) {
+        [b, c, a]
+    } else {
+        [c, a, b]
+    }
+}
+
+/// Unit normal (zero when degenerate), area and centroid of the face with corners
+/// `[a, b, c]` in that winding. The normal, area and degeneracy do not depend on which
+/// corner the winding starts at (see [`from_smallest_corner`]), and reversing the winding
+/// negates the normal exactly.
+#[inline(always)]
+pub(crate) fn measure(corners: [Point3; 3]) -> (Vector3, Real, Point3) {
+    let [a, b, c] = corners;
+    let centroid = centroid(a, b, c);
+    let [a, b, c] = from_smallest_corner(corners);
     let scaled = (b - a).cross(&(c - a));
     let twice_area = scaled.norm();
     // Squared lengths are never NaN or −0, so `larger` gives exactly `f64::max`.
@@ -20,13 +48,14 @@ fn measure([a, b, c]: [Point3; 3]) -> (Vector3, Real, Point3) {
     } else {
         Vector3::zeros()
     };
-    (normal, 0.5 * twice_area, centroid(a, b, c))
+    (normal, 0.5 * twice_area, centroid)
 }
 
-/// Mean of three corners, summed in the order given.
+/// Mean of three corners, `(a + (b + c)) / 3`: the same for `[a, c, b]`, so that turning a
+/// face (which swaps corners 1 and 2) keeps its centroid bit for bit.
 #[inline]
 fn centroid(a: Point3, b: Point3, c: Point3) -> Point3 {
-    Point3::from((a.coords + b.coords + c.coords) / 3.0)
+    Point3::from((a.coords + (b.coords + c.coords)) / 3.0)
 }
 
 /// Unit normal, area and centroid of every face, indexed by face id.
@@ -70,6 +99,17 @@ impl FaceGeometry {
         self.normals.push(normal);
         self.areas.push(area);
         self.centroids.push(centroid);
+    }
+
+    /// Records that face `f` was turned (corners 1 and 2 swapped) after it was measured:
+    /// `corners` are its corners in the new winding. Only the normal changes (area and
+    /// centroid do not depend on the winding, see `measure`); it is measured again rather
+    /// than negated, since a zero component keeps its sign rule (`x − x = +0` both ways).
+    #[inline]
+    pub(crate) fn turn(&mut self, f: usize, corners: [Point3; 3]) {
+        let (normal, area, centroid) = measure(corners);
+        debug_assert!(area == self.areas[f] && centroid == self.centroids[f]);
+        self.normals[f] = normal;
     }
 
     /// Number of faces.

@@ -1,18 +1,22 @@
 //! Consistent winding: flips faces so that neighbours traverse their shared edge in opposite
 //! directions, as real files with flipped faces need before normals can be compared.
 //!
-//! No paper; the textbook breadth-first propagation over manifold edges (as in MeshLab's
-//! "re-orient all faces coherently"). Which of the two windings a patch of linked faces keeps:
+//! No paper; the textbook propagation over manifold edges (as in MeshLab's "re-orient all
+//! faces coherently"), done as a union–find with the parity of turns (one pass over the
+//! links instead of a breadth-first walk). Which of the two windings a patch of linked faces keeps:
 //! a closed one is turned so its signed volume is positive (normals point outwards); an open
 //! one keeps the winding of the larger share of its area in the file.
-//! A non-orientable patch (a Möbius strip) keeps one edge inconsistent; those are counted.
+//! A non-orientable patch (a Möbius strip) keeps at least one edge inconsistent; those are
+//! counted (which edges are left inconsistent there depends on the order of the links).
 //! Fast path: when the adjacency found no wrongly wound and no non-manifold edge, the parts
 //! are the components and only closed ones with negative volume are turned (one pass).
 //! The propagation reads which links are wound alike from the adjacency (no triangle is
-//! read while it runs) and turns faces in one sequential pass at the end. For the import,
+//! read while it runs); volumes and areas are summed per part in face order, and faces are
+//! turned in one sequential pass at the end. For the import,
 //! both paths measure the faces (normals, areas, centroids) in the pass that turns them
 //! (see `orient_and_measure`).
-//! Cost: linear in faces; 5 bytes a face of scratch.
+//! Cost: linear in faces (near-linear: union–find with path halving); 5 bytes a face of
+//! scratch, plus 29 bytes a part.
 
 use super::{FaceAdjacency, FaceGeometry, TriMesh};
 
@@ -59,110 +63,136 @@ pub(crate) fn orient_and_measure(
     (report, geometry)
 }
 
-/// The general case: breadth-first propagation of the winding over manifold edges. The
-/// faces are turned (and with `geometry`, measured) in one sequential pass at the end.
+/// The general case: which faces must turn relative to which, over manifold links, by a
+/// union–find that keeps for each face the parity of turns to its parent (one sequential
+/// pass over the links, the smaller root kept, so each part's root is its smallest face).
+/// A link whose two faces are already in one part with the wrong parity is inconsistent.
+/// With `geometry`, faces are measured in the pass that sums the parts' volumes, and those
+/// turned in the last pass have their normals measured again.
 fn propagate_winding(
     mesh: &mut TriMesh,
     adjacency: &mut FaceAdjacency,
     mut geometry: Option<&mut FaceGeometry>,
 ) -> OrientationReport {
-    const UNSET: u8 = 0;
-    const KEEP: u8 = 1;
-    const FLIP: u8 = 2;
-    // Once a part is decided: whether the face is turned.
-    const TURN: u8 = 3;
     let n = mesh.triangle_count();
-    let mut state = vec![UNSET; n];
-    let mut queue: Vec<u32> = Vec::with_capacity(n);
-    let mut report = OrientationReport::default();
-
-    for seed in 0..n {
-        if state[seed] != UNSET {
-            continue;
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    // Whether a face is turned relative to its parent.
+    let mut odd = vec![0u8; n];
+    // Root and parity of `x` to it, halving the path on the way. Ends: a parent is never
+    // larger than its child, so x decreases.
+    let find = |parent: &mut [u32], odd: &mut [u8], mut x: u32| -> (u32, u8) {
+        let mut parity = 0;
+        loop {
+            let up = parent[x as usize];
+            if up == x {
+                return (x, parity);
+            }
+            let top = parent[up as usize];
+            odd[x as usize] ^= odd[up as usize];
+            parent[x as usize] = top;
+            parity ^= odd[x as usize];
+            x = top;
         }
-        report.orientable_parts += 1;
-        let start = queue.len();
-        state[seed] = KEEP;
-        queue.push(seed as u32);
-        let mut head = start;
-        let mut closed = true;
-        while head < queue.len() {
-            let f = queue[head] as usize;
-            head += 1;
-            for (k, g) in adjacency.neighbours(f).into_iter().enumerate() {
-                if g == super::NO_FACE {
-                    closed = false;
-                    continue;
-                }
-                let g = g as usize;
-                // g must end up flipped relative to f exactly when the file winds them alike
-                // (as the adjacency found; no face of this part is flipped yet).
-                let same = adjacency.same_direction(f, k);
-                let want = if same == (state[f] == FLIP) {
-                    KEEP
-                } else {
-                    FLIP
-                };
-                if state[g] == UNSET {
-                    state[g] = want;
-                    queue.push(g as u32);
-                } else if state[g] != want && f < g {
+    };
+    let mut report = OrientationReport::default();
+    for f in 0..n {
+        for (k, g) in adjacency.neighbours(f).into_iter().enumerate() {
+            if g == super::NO_FACE || (g as usize) < f {
+                continue;
+            }
+            // g turns relative to f exactly when the file winds them alike.
+            let turn = u8::from(adjacency.same_direction(f, k));
+            let (rf, pf) = find(&mut parent, &mut odd, f as u32);
+            let (rg, pg) = find(&mut parent, &mut odd, g);
+            if rf == rg {
+                if pf ^ pg != turn {
                     report.inconsistent_edges += 1;
                 }
-            }
-        }
-
-        let part = &queue[start..];
-        let flip_whole_part = if closed {
-            // Signed volume (divergence theorem), relative to a vertex of the part for accuracy.
-            let origin = mesh.corners(part[0] as usize)[0].coords;
-            let volume: f64 = part
-                .iter()
-                .map(|&f| {
-                    let v = signed_volume6(mesh, f as usize, &origin);
-                    if state[f as usize] == FLIP {
-                        -v
-                    } else {
-                        v
-                    }
-                })
-                .sum();
-            volume < 0.0
-        } else {
-            let (mut kept, mut flipped) = (0.0, 0.0);
-            for &f in part {
-                let area = mesh.scaled_normal(f as usize).norm();
-                if state[f as usize] == FLIP {
-                    flipped += area;
-                } else {
-                    kept += area;
-                }
-            }
-            flipped > kept
-        };
-        // Parts share no link and the volume's origin is a corner 0, which turning keeps:
-        // turning later gives the same results.
-        for &f in part {
-            let f = f as usize;
-            state[f] = if (state[f] == FLIP) != flip_whole_part {
-                TURN
             } else {
-                KEEP
-            };
+                let (lo, hi) = if rf < rg { (rf, rg) } else { (rg, rf) };
+                parent[hi as usize] = lo;
+                odd[hi as usize] = pf ^ pg ^ turn;
+            }
         }
     }
-    debug_assert_eq!(queue.len(), n);
-    drop(queue);
-    for (f, &s) in state.iter().enumerate() {
-        if s == TURN {
+    // Each face's part (numbered in order of its smallest face) and parity to the part's root.
+    for f in 0..n {
+        let (root, parity) = find(&mut parent, &mut odd, f as u32);
+        (parent[f], odd[f]) = (root, parity);
+    }
+    // Now every face points at its root, its part's smallest face, which is numbered
+    // (overwritten with its part id) before the part's other faces are met.
+    let mut part_count = 0u32;
+    for f in 0..n {
+        let root = parent[f];
+        parent[f] = if root as usize == f {
+            part_count += 1;
+            part_count - 1
+        } else {
+            parent[root as usize]
+        };
+    }
+    report.orientable_parts = part_count as usize;
+    let parts = part_count as usize;
+    // Per part: closed (no open or non-manifold slot), the signed volume relative to a corner
+    // of its first face (divergence theorem; for accuracy far from the origin), and the areas
+    // kept and turned, all in the root's winding.
+    let mut closed = vec![true; parts];
+    // Parts are numbered in order of their first face, so the first face of part p is
+    // known when p is first met.
+    let mut first_face: Vec<u32> = Vec::with_capacity(parts);
+    let mut volume = vec![0.0f64; parts];
+    let mut turned_area = vec![0.0f64; parts];
+    let mut kept_area = vec![0.0f64; parts];
+    for f in 0..n {
+        let p = parent[f] as usize;
+        if p == first_face.len() {
+            first_face.push(f as u32);
+        }
+        let o = mesh.corners(first_face[p] as usize)[0].coords;
+        closed[p] &= !adjacency.neighbours(f).contains(&super::NO_FACE);
+        let v = signed_volume6(mesh, f, &o);
+        // Faces are measured in the file's winding here; a face turned later has only its
+        // normal measured again (see `FaceGeometry::turn`): its area is the same either way.
+        let area = match geometry.as_deref_mut() {
+            Some(geometry) => {
+                geometry.push(mesh.corners(f));
+                geometry.areas()[f]
+            }
+            None => super::face_geometry::measure(mesh.corners(f)).1,
+        };
+        if odd[f] == 1 {
+            volume[p] -= v;
+            turned_area[p] += area;
+        } else {
+            volume[p] += v;
+            kept_area[p] += area;
+        }
+    }
+    drop(first_face);
+    // A closed part turns so its volume is positive; an open one keeps the winding of the
+    // larger share of its area in the file.
+    let turn_part: Vec<bool> = (0..parts)
+        .map(|p| {
+            if closed[p] {
+                volume[p] < 0.0
+            } else {
+                turned_area[p] > kept_area[p]
+            }
+        })
+        .collect();
+    drop((closed, volume, turned_area, kept_area));
+    for f in 0..n {
+        if (odd[f] == 1) != turn_part[parent[f] as usize] {
             mesh.flip(f);
             adjacency.flip(f);
+            if let Some(geometry) = geometry.as_deref_mut() {
+                geometry.turn(f, mesh.corners(f));
+            }
             report.flipped_faces += 1;
         }
-        if let Some(geometry) = geometry.as_deref_mut() {
-            geometry.push(mesh.corners(f));
-        }
     }
+    drop((parent, odd, turn_part));
     let triangles = mesh.triangles();
     adjacency.set_winding_conflicts(report.inconsistent_edges, |f, k, g| {
         let t = &triangles[f];

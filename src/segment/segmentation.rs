@@ -2,6 +2,8 @@
 //!
 //! Source: Wang, Zhao, Tao 2019, §2.1–2.3. Step 3 (§2.3) drops patches with
 //! `A_fin < ε·A`; their faces get [`DROPPED`].
+//! Deviation: a patch whose faces are all degenerate is dropped whatever its area (it has
+//! no usable normal, and its STL would not read back).
 //! Cost: linear in faces, plus a sort of the patches by area.
 
 use super::planarise::flattest_order;
@@ -108,17 +110,21 @@ pub fn segment_with_progress(
     let mut normal_sum = vec![Vector3::zeros(); planar.count];
     let mut centroid_sum = vec![Vector3::zeros(); planar.count];
     let mut faces = vec![0usize; planar.count];
+    let mut usable = vec![false; planar.count];
     for (f, &p) in planar.patch_of.iter().enumerate() {
         let (p, a) = (p as usize, geometry.areas()[f]);
         area[p] += a;
         normal_sum[p] += geometry.normals()[f] * a;
         centroid_sum[p] += geometry.centroids()[f].coords * a;
         faces[p] += 1;
+        usable[p] |= !geometry.is_degenerate(f);
     }
     // Step 3 (§2.3): keep A_fin ≥ ε·A, numbered by decreasing area (ties: creation order).
+    // A patch of degenerate faces only is dropped too (our addition): it has no normal to
+    // process along, and exported alone it would be a file no reader accepts.
     let total: Real = area.iter().sum();
     let mut kept: Vec<usize> = (0..planar.count)
-        .filter(|&p| area[p] >= params.min_area_ratio * total)
+        .filter(|&p| usable[p] && area[p] >= params.min_area_ratio * total)
         .collect();
     kept.sort_by(|&a, &b| area[b].total_cmp(&area[a]).then(a.cmp(&b)));
     let mut new_id = vec![DROPPED; planar.count];

@@ -1,9 +1,10 @@
 //! Drilling-hole correction for JavaScript: `normalFromLasers`, `correctHoles`, and the
 //! `Mesh` methods `laserReadings`, `closestPoints`, `correctHoles` and `drillingProgram`, the
 //! hole-list reader `parseHolesCsv` and the paper's example `drillPaperExample` (the mesh index is built
-//! on first use and kept with the `Mesh`). `correctHoles(params, mesh?)` is split into the
-//! free function and the method because wasm-bindgen cannot borrow an optional `Mesh`
-//! (`Option<&Mesh>`); taking `Option<Mesh>` would consume the caller's handle.
+//! on first use and kept with the `Mesh`). Correction with and without a panel mesh is split
+//! into the method and the free function because wasm-bindgen cannot borrow an optional
+//! `Mesh` (`Option<&Mesh>`); taking `Option<Mesh>` would consume the caller's handle. The
+//! glue refuses `correctHoles(params, mesh)` and points to `mesh.correctHoles(params)`.
 
 use super::params::{read_number_list, ParamReader};
 use super::Mesh;
@@ -352,6 +353,6 @@ impl Mesh {
 impl Mesh {
     /// The mesh index for ray casts and closest points, built on first use.
     pub(super) fn drill_index(&self) -> std::rc::Rc<MeshIndex> {
-        super::mesh::index_of(&self.index, &self.inner)
+        super::index::index_of(&self.index, &self.inner)
     }
 }

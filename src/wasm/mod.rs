@@ -4,6 +4,7 @@
 
 mod drill;
 mod geodesic;
+mod index;
 mod mesh;
 mod params;
 mod segment;

@@ -1,6 +1,6 @@
 //! `Segmentation`: the patches of one `Mesh.segment` call (JavaScript must call `free()`).
 
-use super::mesh::{hit_to_js, index_of, read_ray, SharedIndex};
+use super::index::{hit_to_js, index_of, read_ray, SharedIndex};
 use super::params::{describe, integer, read_number_list, ParamReader};
 use super::progress_fn;
 use crate::math::{Compact, Real};

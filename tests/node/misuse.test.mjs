@@ -394,3 +394,46 @@ test(`fuzz: ${FUZZ_CASES} random params and calls return or throw an Error, and 
   for (const o of [...segs, ...meshes]) o.free();
   stillWorks();
 });
+
+test('an argument too many is refused by name for every export, never dropped', () => {
+  refuses(() => wasm.correctHoles({}, Mesh.fromStl(cube)),
+    /^correctHoles\(\) takes at most 1 argument \(params\), got 2: to project the corrected holes onto a panel, call mesh\.correctHoles\(params\) on the Mesh$/);
+  const mesh = Mesh.fromStl(cube);
+  const seg = mesh.segment(paper);
+  const field = mesh.geodesicDistance({ vertices: [0] });
+  const path = field.toolPath(field.maxDistance / 3);
+  const plan = mesh.planSpray({ spacing: 0.3, standoff: 0.25, speed: 0.4, flowRate: 2.5e-6, coneAngle: 0.7,
+    transitionAngle: 0.35, efficiency: 0.6 });
+  refuses(() => mesh.segment(paper, undefined, 1),
+    /^Mesh\.segment\(\) takes at most 2 arguments \(params, onProgress\), got 3: the extra ones would be ignored$/);
+  refuses(() => Mesh.fromStl(cube, null, {}), /^Mesh\.fromStl\(\) takes at most 2 arguments \(bytes, onProgress\), got 3: /);
+  refuses(() => seg.patchStl(0, 1), /^Segmentation\.patchStl\(\) takes at most 1 argument \(id\), got 2: /);
+  refuses(() => wasmMemoryBytes(0), /^wasmMemoryBytes\(\) takes no arguments, got 1: /);
+  refuses(() => deriveThreshold(paper, paper), /^deriveThreshold\(\) takes at most 1 argument \(params\), got 2: /);
+  // Extra arguments that are undefined change nothing and are let through.
+  assert.equal(mesh.segment(paper, undefined, undefined).patchCount, 6);
+  assert.equal(deriveThreshold(paper, undefined).kind, 'angle');
+  // Every exported function, static and method, with one argument more than it declares.
+  const functions = Object.entries(wasm).filter(([k, v]) => typeof v === 'function' && !/^[A-Z]/.test(k)
+    && k !== 'initSync' && k !== 'default' && k !== 'installPanicHook');
+  assert.ok(functions.length >= 6, functions.map(([k]) => k).join());
+  for (const [name, f] of functions) {
+    refuses(() => f(...Array(f.length).fill(undefined), 0), new RegExp(`^${name}\\(\\) takes `));
+  }
+  let checked = 0;
+  for (const [cls, object] of [[Mesh, mesh], [Segmentation, seg], [DistanceField, field], [ToolPath, path],
+    [wasm.SprayPlan, plan]]) {
+    for (const [owner, target] of [[cls.prototype, object], [cls, cls]]) {
+      for (const key of Object.getOwnPropertyNames(owner)) {
+        const d = Object.getOwnPropertyDescriptor(owner, key);
+        if (typeof d.value !== 'function' || key === 'constructor' || key === 'free' || key.startsWith('__')) continue;
+        refuses(() => target[key](...Array(d.value.length).fill(undefined), 'extra'),
+          new RegExp(`^${cls.name}\\.${key}\\(\\) takes (at most ${d.value.length} argument|no arguments)`));
+        checked++;
+      }
+    }
+  }
+  assert.ok(checked >= 40, `${checked} methods checked`);
+  for (const o of [plan, path, field, seg, mesh]) o.free();
+  stillWorks();
+});
