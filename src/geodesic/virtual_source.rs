@@ -191,25 +191,21 @@ impl Solver<'_> {
             let tri = mesh.triangles()[t];
             let k = tri.iter().position(|&x| x as usize == u).unwrap_or(0);
             let (p, q) = (tri[(k + 1) % 3] as usize, tri[(k + 2) % 3] as usize);
+            if self.settled[p] && self.settled[q] {
+                continue;
+            }
+            let from_u = self.moved(u, t);
             for (x, y) in [(p, q), (q, p)] {
                 if self.settled[x] {
                     continue;
                 }
-                let mut best: Option<(Real, Virtual)> = None;
-                let mut consider = |d: Option<Real>, s: Virtual| {
-                    if let Some(d) = d {
-                        if best.is_none_or(|(b, _)| d < b) {
-                            best = Some((d, s));
-                        }
-                    }
-                };
-                if let Some(s) = self.moved(u, t) {
-                    consider(self.offer(&s, t, x, u, y), s);
-                }
-                if self.settled[y] {
-                    if let Some(s) = self.moved(y, t) {
-                        consider(self.offer(&s, t, x, u, y), s);
-                    }
+                let mut best = from_u.and_then(|s| Some((self.offer(&s, t, x, u, y)?, s)));
+                // A settled y offered its own source to x across the same edge when it was
+                // settled; it matters again only as the alternative to a bend at u.
+                if best.is_none() && self.settled[y] {
+                    best = self
+                        .moved(y, t)
+                        .and_then(|s| Some((self.offer(&s, t, x, u, y)?, s)));
                 }
                 // The path bending at u: a new point source there (exact at saddle and
                 // boundary vertices; elsewhere only when no unfolded ray reaches x).
