@@ -21,7 +21,8 @@
 //!         distance): cap R 1000 from its rim, 500k triangles 0.22 (at the pole) / 0.0014,
 //!         2M 0.14 / 0.0004 (fast marching 1.8 / 0.10 and 1.0 / 0.05); sphere R 100 from a
 //!         point, 500k 0.084 (at the antipode) / 0.0005, 2M 0.025 / 0.00014 (fast marching
-//!         3.0 / 1.3 and 2.9 / 1.2); time 1.3–1.6× fast marching's solve.
+//!         3.0 / 1.3 and 2.9 / 1.2); time 0.7–2.0× fast marching's solve (runs on a shared
+//!         machine), 1.2–1.6× the fast method's.
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
 //!         a normal per face, the heap), its worst case refused up front above 1 GiB (about
 //!         7M triangles): each vertex is settled once and offers each face around it twice.

@@ -317,7 +317,7 @@ pub(crate) fn distance_field(
     })
 }
 
-/// Geodesic distance from a source over the mesh (or a patch), by the mesh or voxel method.
+/// Geodesic distance from a source over the mesh (or a patch), by the method it names.
 #[wasm_bindgen]
 pub struct DistanceField {
     mesh: Rc<ImportedMesh>,
@@ -345,7 +345,7 @@ impl DistanceField {
         self.inner.source_samples as u32
     }
 
-    /// Number of voxels (0 for the mesh method).
+    /// Number of voxels (0 for the other methods).
     #[wasm_bindgen(getter, js_name = voxelCount)]
     pub fn voxel_count(&self) -> u32 {
         self.inner
@@ -354,7 +354,7 @@ impl DistanceField {
             .map_or(0, |v| v.cells.len() as u32)
     }
 
-    /// Bytes held by the voxels and their lookup table (0 for the mesh method).
+    /// Bytes held by the voxels and their lookup table (0 for the other methods).
     #[wasm_bindgen(getter, js_name = voxelMemoryBytes)]
     pub fn voxel_memory_bytes(&self) -> f64 {
         self.inner
