@@ -511,7 +511,7 @@ if (geodesicArg > 0) {
       ' (exact: z), wave z = 8 sin(2πx/40) 60 × 50 mm from x = 0 (exact: arc length)');
     console.log('shape     triangles  method  distance ms  isoPaths ms  toolPath ms  paths  closed  max err mm  mean err mm     voxels  voxel MiB  wasm MiB');
     for (const [shape, size] of GEODESIC_CASES) {
-      for (const method of ['mesh', 'exact', 'voxel']) {
+      for (const method of ['accurate', 'fast', 'exact', 'voxel']) {
         const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
           fileURLToPath(import.meta.url), '--geodesic', shape, String(size), method], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
         const r = JSON.parse(out);
@@ -525,5 +525,6 @@ if (geodesicArg > 0) {
           `  ${r.voxelMiB.toFixed(1).padStart(9)}  ${r.memoryMiB.toFixed(1).padStart(8)}`);
       }
     }
+    if (args.includes('geodesic')) await (await import('./geodesic.mjs')).main();
   }
 }

@@ -52,7 +52,7 @@ fn main() {
         ),
     ];
     for (name, source, exact, max_level) in &cases {
-        for method in [Method::Mesh, Method::Voxel] {
+        for method in [Method::Fast, Method::Voxel] {
             let params = DistanceParams {
                 method,
                 voxel_size: Some(voxel),

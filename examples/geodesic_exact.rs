@@ -64,7 +64,7 @@ fn main() {
                 }
             };
             let (e, te, w) = run(&mesh, &adjacency, &src, Method::Exact);
-            let (m, tm, _) = run(&mesh, &adjacency, &src, Method::Mesh);
+            let (m, tm, _) = run(&mesh, &adjacency, &src, Method::Fast);
             let (mut worst, mut at) = (0.0, 0);
             for v in 0..e.len() {
                 if (e[v] - m[v]).abs() > worst {
@@ -133,7 +133,7 @@ fn main() {
             ];
             println!("cylinder: {} triangles", mesh.triangle_count());
             for (name, src, exact) in &cases {
-                for method in [Method::Exact, Method::Mesh] {
+                for method in [Method::Exact, Method::Fast] {
                     let (d, t, w) = run(&mesh, &adjacency, src, method);
 
                     let err = mesh

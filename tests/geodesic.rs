@@ -96,7 +96,7 @@ fn a_level_on_the_rim_gives_one_ring_for_every_method() {
     // Level 12 (z = 120) runs along the far rim, where the exact method's distances equal the
     // level only up to rounding: still one closed ring there, not fragments.
     let s = cylinder(96, 24);
-    for method in [Method::Mesh, Method::Exact] {
+    for method in [Method::Fast, Method::Exact] {
         let params = DistanceParams {
             method,
             ..DistanceParams::default()
@@ -478,7 +478,7 @@ fn height_field_matches_geodesics_shot_on_the_smooth_surface() {
     // fronts meet on this steep, doubly curved field and stays about 0.2 mm off at any edge
     // length (the figure is pinned so a change either way is seen).
     let (exact, count) = smooth_height_field_error(Method::Exact, 1.0);
-    let (mesh, _) = smooth_height_field_error(Method::Mesh, 1.0);
+    let (mesh, _) = smooth_height_field_error(Method::Fast, 1.0);
     eprintln!(
         "height field vs smooth geodesics over {count} points: exact {exact} mm, mesh {mesh} mm"
     );

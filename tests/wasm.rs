@@ -272,7 +272,7 @@ fn geodesic_ring_source_on_a_cylinder_gives_closed_paths_at_their_heights() {
     let field = mesh
         .geodesic_distance(source.into(), JsValue::UNDEFINED, None)
         .unwrap();
-    assert_eq!(field.method(), "mesh");
+    assert_eq!(field.method(), "accurate");
     assert!(
         (field.max_distance() - 120.0).abs() < 1e-3,
         "{}",

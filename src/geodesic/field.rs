@@ -83,8 +83,12 @@ pub fn geodesic_distance(
     let resolved = resolve(&surface, &grid, source, step, max_snap)?;
     let mut windows = 0;
     let (vertex_distance, voxels) = match params.method {
-        Method::Mesh => (
+        Method::Fast => (
             super::unfolding::propagate(&surface, &resolved, progress)?,
+            None,
+        ),
+        Method::Accurate => (
+            super::virtual_source::propagate(&surface, &resolved, progress)?,
             None,
         ),
         Method::Exact => {

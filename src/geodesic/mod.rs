@@ -12,6 +12,7 @@ mod params;
 mod source;
 mod surface;
 mod unfolding;
+mod virtual_source;
 mod voxel;
 mod voxel_paths;
 

@@ -49,9 +49,14 @@ pub enum GeodesicError {
 /// Which distance computation to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
+    /// Dijkstra-ordered propagation of explicit virtual sources (see `virtual_source.rs`):
+    /// near the exact polyhedral distance (second order in the edge length away from where
+    /// fronts meet) at the cost of fast marching. The default.
+    Accurate,
     /// Per-vertex distance by unfolded wavefront propagation: fast, exact on developable
-    /// surfaces, first order where fronts meet on doubly curved ones (see `unfolding.rs`).
-    Mesh,
+    /// surfaces, first order where fronts meet on doubly curved ones (see `unfolding.rs`);
+    /// approximate (millimetres off on large doubly curved panels). Formerly `mesh`.
+    Fast,
     /// The paper's voxel front propagation (Li & Zhang 2021, steps 1–3).
     Voxel,
     /// Exact polyhedral distance by window propagation (Xin & Wang 2009, ICH).
@@ -62,7 +67,8 @@ impl Method {
     /// The method's name as the JavaScript API spells it.
     pub fn name(self) -> &'static str {
         match self {
-            Method::Mesh => "mesh",
+            Method::Accurate => "accurate",
+            Method::Fast => "fast",
             Method::Voxel => "voxel",
             Method::Exact => "exact",
         }
@@ -72,7 +78,7 @@ impl Method {
 /// Parameters of [`geodesic_distance`](super::geodesic_distance).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DistanceParams {
-    /// Mesh or voxel method.
+    /// Accurate (default), exact, fast or voxel method.
     pub method: Method,
     /// Voxel edge `L` (mesh unit) for the voxel method; `None`: mean edge length / 4.
     pub voxel_size: Option<Real>,
@@ -91,7 +97,7 @@ pub struct DistanceParams {
 impl Default for DistanceParams {
     fn default() -> Self {
         DistanceParams {
-            method: Method::Mesh,
+            method: Method::Accurate,
             voxel_size: None,
             max_voxel_bytes: 1 << 30,
             faces: None,

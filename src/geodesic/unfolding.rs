@@ -272,7 +272,7 @@ pub(crate) fn propagate(
 
 /// Vertices with a total face angle above 2π (saddles) or on the boundary of the active
 /// faces: the only vertices a shortest path may bend at.
-fn saddle_or_boundary_vertices(surface: &Surface) -> Vec<bool> {
+pub(super) fn saddle_or_boundary_vertices(surface: &Surface) -> Vec<bool> {
     let mesh = surface.mesh;
     let nv = mesh.vertex_count();
     let mut angle = vec![0.0; nv];

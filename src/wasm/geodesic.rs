@@ -27,10 +27,16 @@ export type GeodesicSource =
   | { vertices: Uint32Array | number[] }
   | { boundaryOf: "mesh" | number; loop?: number }
   | { plane: { point: [number, number, number]; normal: [number, number, number] } };
-/** method "mesh" (default, unfolded wavefronts), "voxel" (the paper) or "exact" (window
- *  propagation, exact polyhedral distance); voxelSize in the
- *  file's unit (default mean edge / 4); faces: restrict to these triangles (a patch). */
-export interface GeodesicParams { method?: "mesh" | "voxel" | "exact"; voxelSize?: number; faces?: Uint32Array | number[] }
+/** method "accurate" (default: virtual sources carried vertex to vertex, near the exact
+ *  polyhedral distance at the cost of fast marching), "exact" (window propagation, the exact
+ *  polyhedral distance, the reference; slow on large doubly curved meshes), "fast" (unfolded
+ *  wavefronts, approximate: millimetres off on large doubly curved panels; "mesh" is its
+ *  former name, accepted for one release) or "voxel" (the paper); voxelSize in the file's
+ *  unit (default mean edge / 4); faces: restrict to these triangles (a patch). */
+export interface GeodesicParams {
+  method?: "accurate" | "exact" | "fast" | "mesh" | "voxel"; voxelSize?: number;
+  faces?: Uint32Array | number[];
+}
 /** Path options: pointSpacing (default spacing / 4), maxLevel (levels 1..maxLevel), order
  *  (default "zigzag"), speed / linkSpeed (file unit per s; defaults 10 and 100). With
  *  spacing null, beadWidth × overlapFactor gives it (the paper: 6.4 × 0.738). */
@@ -186,11 +192,14 @@ fn params_from_js(value: &JsValue) -> Result<DistanceParams, JsError> {
     let Some(r) = ParamReader::optional_argument(value, "geodesic parameter", PARAM_KEYS)? else {
         return Ok(params);
     };
-    if let Some(m) = r.optional_choice("method", &["mesh", "voxel", "exact"])? {
+    let methods = ["accurate", "exact", "fast", "mesh", "voxel"];
+    if let Some(m) = r.optional_choice("method", &methods)? {
         params.method = match m {
             "voxel" => Method::Voxel,
             "exact" => Method::Exact,
-            _ => Method::Mesh,
+            // "mesh": the former name of "fast", accepted for one release.
+            "fast" | "mesh" => Method::Fast,
+            _ => Method::Accurate,
         };
     }
     params.voxel_size = r.optional_number("voxelSize")?;
@@ -308,7 +317,7 @@ pub(crate) fn distance_field(
     })
 }
 
-/// Geodesic distance from a source over the mesh (or a patch), by the mesh or voxel method.
+/// Geodesic distance from a source over the mesh (or a patch), by the method it names.
 #[wasm_bindgen]
 pub struct DistanceField {
     mesh: Rc<ImportedMesh>,
@@ -317,7 +326,8 @@ pub struct DistanceField {
 
 #[wasm_bindgen]
 impl DistanceField {
-    /// `"mesh"`, `"voxel"` or `"exact"`.
+    /// The method that ran: `"accurate"`, `"exact"`, `"fast"` (also when asked as `"mesh"`)
+    /// or `"voxel"`.
     #[wasm_bindgen(getter)]
     pub fn method(&self) -> String {
         self.inner.method.name().into()
@@ -335,7 +345,7 @@ impl DistanceField {
         self.inner.source_samples as u32
     }
 
-    /// Number of voxels (0 for the mesh method).
+    /// Number of voxels (0 for the other methods).
     #[wasm_bindgen(getter, js_name = voxelCount)]
     pub fn voxel_count(&self) -> u32 {
         self.inner
@@ -344,7 +354,7 @@ impl DistanceField {
             .map_or(0, |v| v.cells.len() as u32)
     }
 
-    /// Bytes held by the voxels and their lookup table (0 for the mesh method).
+    /// Bytes held by the voxels and their lookup table (0 for the other methods).
     #[wasm_bindgen(getter, js_name = voxelMemoryBytes)]
     pub fn voxel_memory_bytes(&self) -> f64 {
         self.inner

@@ -145,3 +145,88 @@ pub fn check_field(s: &Shape, d: &[Real]) {
         }
     }
 }
+
+/// Spherical cap of radius `r` and half-angle `theta0` around +z, in `rings` rings of
+/// 6·i vertices (about 6·rings² triangles of even size): ring i at polar angle θ0·i/rings.
+pub fn cap(rings: usize, r: Real, theta0: Real) -> Shape {
+    let mut pos = vec![Point3::new(0.0, 0.0, r)];
+    let mut start = vec![0usize];
+    for i in 1..=rings {
+        start.push(pos.len());
+        let th = theta0 * i as Real / rings as Real;
+        for k in 0..6 * i {
+            let ph = 2.0 * PI * k as Real / (6 * i) as Real;
+            let s = r * libm::sin(th);
+            pos.push(Point3::new(
+                s * libm::cos(ph),
+                s * libm::sin(ph),
+                r * libm::cos(th),
+            ));
+        }
+    }
+    let mut tri = Vec::new();
+    for i in 1..=rings {
+        // Merge ring i − 1 (m vertices) and ring i (n vertices) by azimuth.
+        let (m, n) = (if i == 1 { 1 } else { 6 * (i - 1) }, 6 * i);
+        let (a0, b0) = (start[i - 1], start[i]);
+        let (mut a, mut b) = (if i == 1 { 1 } else { 0 }, 0usize);
+        while a < m || b < n {
+            let fa = (a as Real + 0.5) / m as Real;
+            let fb = (b as Real + 0.5) / n as Real;
+            let ia = (a0 + a % m) as u32;
+            let ib = (b0 + b % n) as u32;
+            if b < n && (a >= m || fb <= fa) {
+                tri.push([ia, ib, (b0 + (b + 1) % n) as u32]);
+                b += 1;
+            } else {
+                tri.push([ia, ib, (a0 + (a + 1) % m) as u32]);
+                a += 1;
+            }
+        }
+    }
+    shape(pos, tri)
+}
+
+/// Sphere of radius `r` from a cube of `n × n` cells a face (12·n² triangles), projected
+/// equi-angularly; `n` even puts a vertex at (0, 0, −r).
+pub fn cube_sphere(n: usize, r: Real) -> Shape {
+    let mut index = std::collections::HashMap::new();
+    let mut pos = Vec::new();
+    let mut id = |c: [i64; 3]| -> u32 {
+        *index.entry(c).or_insert_with(|| {
+            let t = |x: i64| libm::tan(PI / 4.0 * (2.0 * x as Real / n as Real - 1.0));
+            let p = Point3::new(t(c[0]), t(c[1]), t(c[2]));
+            pos.push(Point3::from(p.coords.normalize() * r));
+            (pos.len() - 1) as u32
+        })
+    };
+    let n64 = n as i64;
+    let mut tri = Vec::new();
+    // Each face: axis `ax` fixed at 0 or n; (u, v) span the other two, wound outwards.
+    for ax in 0..3 {
+        for side in [0, n64] {
+            let (ua, va) = ((ax + 1) % 3, (ax + 2) % 3);
+            for i in 0..n64 {
+                for j in 0..n64 {
+                    let at = |di: i64, dj: i64| {
+                        let mut c = [0i64; 3];
+                        c[ax] = side;
+                        c[ua] = i + di;
+                        c[va] = j + dj;
+                        c
+                    };
+                    let q = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)].map(&mut id);
+                    let (t0, t1) = if (i + j) % 2 == 0 {
+                        ([q[0], q[1], q[2]], [q[0], q[2], q[3]])
+                    } else {
+                        ([q[0], q[1], q[3]], [q[1], q[2], q[3]])
+                    };
+                    let flip = |t: [u32; 3]| if side == 0 { [t[0], t[2], t[1]] } else { t };
+                    tri.push(flip(t0));
+                    tri.push(flip(t1));
+                }
+            }
+        }
+    }
+    shape(pos, tri)
+}

@@ -86,15 +86,18 @@ test('a section plane z = 60 gives closed rings 10 mm apart, listed, drawn and c
     // A ring of radius 50 on a 96-gon: its length is within 0.1 % of 2π·50.
     assert.ok(Math.abs(Number(length) - 2 * Math.PI * R) < 0.5, cells.join(' '));
   }
-  // All three methods ran: their differences from the exact distance are shown, small against
-  // the 2 mm voxels, and far smaller for the fast mesh method on this developable cylinder.
+  // All four methods ran: their differences from the exact distance are shown, small against
+  // the 2 mm voxels, and far smaller for the accurate and fast methods on this developable
+  // cylinder.
   const diff = page.locator('#paths-diff');
   assert.equal(await diff.isVisible(), true);
-  assert.match(await diff.textContent(), /fast mesh method vs exact: .*voxel method vs exact: /);
+  assert.match(await diff.textContent(), /accurate method vs exact: .*fast method vs exact: .*voxel method vs exact: /);
   const voxelMax = Number(await diff.getAttribute('data-voxel-max'));
-  const meshMax = Number(await diff.getAttribute('data-mesh-max'));
+  const fastMax = Number(await diff.getAttribute('data-fast-max'));
+  const accurateMax = Number(await diff.getAttribute('data-accurate-max'));
   assert.ok(voxelMax > 0 && voxelMax < 5, `voxel vs exact ${voxelMax}`);
-  assert.ok(meshMax < 0.05, `mesh vs exact ${meshMax}`);
+  assert.ok(fastMax < 0.05, `fast vs exact ${fastMax}`);
+  assert.ok(accurateMax < 0.01, `accurate vs exact ${accurateMax}`);
   assert.equal(Number(await diff.getAttribute('data-max')), voxelMax);
   assert.match(await page.textContent('#overlay-paths'), /Geodesic distance from the source, mm/);
   // The colour map changes the picture: coloured pixels that are not the grey model.
@@ -140,7 +143,7 @@ test('spacing 0 is refused in the form; an engine error is reported and the resu
 
 test('the boundary loops of the cylinder give rings from both rims, bead width × overlap spacing', async () => {
   const { page } = app;
-  await page.check('#paths-form input[name="method"][value="mesh"]');
+  await page.check('#paths-form input[name="method"][value="fast"]');
   await page.check('#paths-form input[name="source"][value="boundary"]');
   await page.check('#paths-form input[name="spacingMode"][value="bead"]');
   await page.fill('#paths-beadWidth', '6.4');

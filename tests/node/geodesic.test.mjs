@@ -72,14 +72,14 @@ function stillWorks() {
   f.free();
 }
 
-test('a ring source gives closed paths at z = 10k (mesh method: error < 1e-6 mm)', () => {
+test('a ring source gives closed paths at z = 10k (fast method: error < 1e-6 mm)', () => {
   const stages = new Set();
-  const field = mesh.geodesicDistance(ringSource, { method: 'mesh' }, (stage, fraction) => {
+  const field = mesh.geodesicDistance(ringSource, { method: 'fast' }, (stage, fraction) => {
     assert.ok(fraction >= 0 && fraction <= 1);
     stages.add(stage);
   });
   assert.ok(field instanceof DistanceField);
-  assert.equal(field.method, 'mesh');
+  assert.equal(field.method, 'fast');
   assert.ok(Math.abs(field.maxDistance - 120) < 1e-6);
   const d = field.vertexDistance();
   assert.equal(d.length, mesh.vertexCount);
@@ -104,6 +104,27 @@ test('a ring source gives closed paths at z = 10k (mesh method: error < 1e-6 mm)
   assert.ok(heightError(paths, 10) < 1e-6, `height error ${heightError(paths, 10)}`);
   assert.ok(stages.size >= 1, 'progress was reported');
   field.free();
+});
+
+test('the accurate method is the default, and "mesh" still runs the fast method', () => {
+  const stages = new Set();
+  const field = mesh.geodesicDistance(ringSource, undefined, (stage, fraction) => {
+    assert.ok(fraction >= 0 && fraction <= 1);
+    stages.add(stage);
+  });
+  assert.equal(field.method, 'accurate');
+  assert.ok(stages.size >= 1, 'progress was reported');
+  const d = field.vertexDistance();
+  const pos = mesh.positions();
+  for (let v = 0; v < d.length; v++) assert.ok(Math.abs(d[v] - pos[3 * v + 2]) < 1e-4, `vertex ${v}`);
+  assert.ok(heightError(field.isoPaths(10), 10) < 1e-6);
+  field.free();
+  const named = mesh.geodesicDistance(ringSource, { method: 'accurate' });
+  assert.equal(named.method, 'accurate');
+  named.free();
+  const alias = mesh.geodesicDistance(ringSource, { method: 'mesh' });
+  assert.equal(alias.method, 'fast');
+  alias.free();
 });
 
 test('the exact method gives the distance z to rounding, and its circles', () => {
@@ -258,7 +279,7 @@ test('bad input throws an Error naming it and the mesh keeps working', () => {
   refuses(() => mesh.geodesicDistance({ plane: { point: [0, 0] , normal: [0, 0, 1] } }), /^plane\.point must be three numbers/);
   refuses(() => mesh.geodesicDistance({ plane: { point: [0, 0, 0], normal: [0, 0, 1], up: 1 } }), /^unknown geodesic source 'plane\.up'$/);
   refuses(() => mesh.geodesicDistance(null), /^geodesic sources must be an object, got null$/);
-  refuses(() => mesh.geodesicDistance(ringSource, { method: 'fast' }), /^method must be one of "mesh", "voxel", "exact", got the string "fast"$/);
+  refuses(() => mesh.geodesicDistance(ringSource, { method: 'fmm' }), /^method must be one of "accurate", "exact", "fast", "mesh", "voxel", got the string "fmm"$/);
   refuses(() => mesh.geodesicDistance(ringSource, { methd: 'mesh' }), /^unknown geodesic parameter 'methd'$/);
   refuses(() => mesh.geodesicDistance(ringSource, { voxelSize: 1 }), /'voxelSize' needs method "voxel"/);
   refuses(() => mesh.geodesicDistance(ringSource, { method: 'voxel', voxelSize: 0.001 }), /voxel size 0\.001 is too small: .*use a voxel size of at least/);

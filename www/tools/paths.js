@@ -1,7 +1,8 @@
 // Paths tool (issue 8): geodesically equidistant passes from a source on the surface — a
 // section plane through a clicked point, or a boundary loop of the mesh or of the selected
-// patch — by the exact method (window propagation), the fast mesh method (unfolded
-// wavefronts) or the voxel method of the paper. Draws the distance as a colour map, the passes
+// patch — by the accurate method (window propagation merging windows within a tolerance;
+// the default), the exact method (window propagation, the reference), the fast method
+// (unfolded wavefronts, approximate) or the voxel method of the paper. Draws the distance as a colour map, the passes
 // coloured by level (closed solid, open dashed) and the source, lists the passes, compares the
 // methods on the same source against the exact one, and exports through the ToolPath
 // exporters (CSV, JSON, ABB RAPID, KUKA KRL). Lengths are typed in mm whatever the file's
@@ -29,7 +30,7 @@ const CHOICES = {
   axis: ['x', 'y', 'z', 'view'],
   scope: ['mesh', 'patch'],
   spacingMode: ['spacing', 'bead'],
-  method: ['exact', 'mesh', 'voxel', 'compare'],
+  method: ['accurate', 'exact', 'fast', 'voxel', 'compare'],
   order: ['zigzag', 'oneWay'],
   loop: ['all', '0', '1', '2', '3'],
 };
@@ -106,10 +107,11 @@ const PANEL = `
     </fieldset>
     <fieldset>
       <legend>Method</legend>
-      ${radio('method', 'exact', 'exact (window propagation)')}
-      ${radio('method', 'mesh', 'fast (unfolded wavefronts)')}
+      ${radio('method', 'accurate', 'accurate (merged windows)')}
+      ${radio('method', 'exact', 'exact (window propagation; slow on large curved meshes)')}
+      ${radio('method', 'fast', 'fast (unfolded wavefronts; approximate on curved meshes)')}
       ${radio('method', 'voxel', 'voxels (the paper)')}
-      ${radio('method', 'compare', 'all three, compared with exact')}
+      ${radio('method', 'compare', 'all four, compared with exact')}
       ${group('method')}
     </fieldset>
     <p id="paths-error" class="field-error" aria-live="polite"></p>
@@ -376,7 +378,7 @@ class PathsTool {
     } else {
       source = { kind: 'boundary', ...(v.loop !== 'all' ? { loop: Number(v.loop) } : {}) };
     }
-    const methods = v.method === 'compare' ? ['exact', 'mesh', 'voxel'] : [v.method];
+    const methods = v.method === 'compare' ? ['exact', 'accurate', 'fast', 'voxel'] : [v.method];
     return {
       values: v,
       patchId,
@@ -533,14 +535,14 @@ class PathsTool {
     this.#renderLegend();
   }
 
-  /** Max and mean difference of each method from the reference (exact, else mesh) over the
+  /** Max and mean difference of each method from the reference (exact, else accurate) over the
    * vertices both reached, and a cross where the largest difference is. */
   #renderDiff() {
     const el = $('paths-diff');
     const runs = this.#runs;
     this.#shell.viewer?.removeLayer('paths.diffmark');
-    const reference = runs?.exact ? 'exact' : 'mesh';
-    const others = ['mesh', 'voxel'].filter((m) => m !== reference && runs?.[m] && runs[m].length === runs[reference]?.length);
+    const reference = runs?.exact ? 'exact' : 'accurate';
+    const others = ['accurate', 'fast', 'voxel'].filter((m) => m !== reference && runs?.[m] && runs[m].length === runs[reference]?.length);
     if (!others.length) {
       el.hidden = true;
       return;
@@ -548,7 +550,7 @@ class PathsTool {
     const mm = this.#shell.mmPerUnit;
     const P = this.#result.out.positions;
     const unit = this.#shell.unitOf.length();
-    const NAMES = { exact: 'exact', mesh: 'fast mesh', voxel: 'voxel' };
+    const NAMES = { exact: 'exact', accurate: 'accurate', fast: 'fast', voxel: 'voxel' };
     let worst = { max: 0, at: -1 };
     const lines = others.map((method) => {
       const a = runs[method];

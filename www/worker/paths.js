@@ -1,10 +1,10 @@
 // Worker side of the paths tool (tools/paths.js): the geodesic distance from a source (a
-// section plane, a boundary loop) by the exact, the fast mesh or the voxel method, its iso-distance passes,
+// section plane, a boundary loop) by the accurate, the exact, the fast or the voxel method, its iso-distance passes,
 // and the tool-path exports. Keeps the last DistanceField for the exports. Protocol and
 // `ctx`: see worker.js. Lengths arrive and leave in the file's units.
 import { exportTexts, packageFiles } from './programs.js';
 
-const METHOD_NAMES = { exact: 'Exact', mesh: 'Fast mesh', voxel: 'Voxel' };
+const METHOD_NAMES = { accurate: 'Accurate', exact: 'Exact', fast: 'Fast', mesh: 'Fast', voxel: 'Voxel' };
 
 export const doing = { compute: 'computing the geodesic distance', exportPaths: 'writing the path program' };
 
@@ -57,7 +57,7 @@ export const ops = {
   /**
    * { source: { kind: 'plane', point|null, normal } | { kind: 'boundary', loop? }
    *   | { kind: 'points', points (flat xyz), closed }, patchId|null,
-   *   methods: ['exact'|'mesh'|'voxel', …], voxelSize, spacing, pathOptions } → per method the vertex
+   *   methods: ['accurate'|'exact'|'fast'|'voxel', …], voxelSize, spacing, pathOptions } → per method the vertex
    * distances, and for the first method its paths and a trace of the source. The first
    * method's field stays here for the exports.
    */

@@ -1,0 +1,251 @@
+// `npm run bench -- geodesic` (from bench.mjs): geodesic distance on doubly curved meshes against
+// the analytic distance, each method side by side with fast marching.
+//
+// Cases (GEODESIC_CURVED_SIZES, default 500000,2000000 triangles):
+//   - a spherical cap R 1000 mm, half-angle 1 rad, in rings of 6·i vertices, its rim as the
+//     source: the distance of a point at polar angle θ is R·(1 − θ);
+//   - a sphere R 100 mm from a cube of n × n cells a face, projected equi-angularly, a point
+//     source at its south pole: the great-circle distance.
+// Each method runs in a child process (fresh WebAssembly memory): Mesh.fromStl, then
+// mesh.geodesicDistance timed alone; max and mean |d − analytic| over the welded vertices.
+// `exact` is skipped above GEODESIC_EXACT_MAX triangles (default 100 000; it takes minutes
+// there: n^1.6 growth). Fast marching: potpourri3d 1.4.0 `MeshFastMarchingDistanceSolver` on the
+// same vertices (rounded to f32 like the STL) and source (the rim as a closed curve through its
+// vertices; the pole vertex), in a Python virtual environment this script creates on first use
+// in node_modules/.cache (python3 -m venv, pip install potpourri3d==1.4.0); when python3 or the
+// install is not available it says so and leaves the column out.
+import { execFileSync, spawnSync } from 'node:child_process';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { fileURLToPath } from 'node:url';
+import { dirname, join } from 'node:path';
+
+const here = fileURLToPath(import.meta.url);
+const root = join(dirname(here), '..');
+const SIZES = (process.env.GEODESIC_CURVED_SIZES ?? '500000,2000000').split(',').map(Number);
+const EXACT_MAX = Number(process.env.GEODESIC_EXACT_MAX ?? 100_000);
+const METHODS = ['accurate', 'fast', 'exact'];
+const CAP_R = 1000;
+const SPHERE_R = 100;
+const VENV = join(root, 'node_modules', '.cache', 'skinpath-potpourri3d-1.4.0');
+
+/** Spherical cap in `rings` rings (ring i: 6·i vertices at polar angle i/rings rad). */
+function cap(target) {
+  const rings = Math.max(2, Math.round(Math.sqrt(target / 6)));
+  const pos = [0, 0, CAP_R];
+  const start = [0];
+  for (let i = 1; i <= rings; i++) {
+    start.push(pos.length / 3);
+    const th = i / rings;
+    for (let k = 0; k < 6 * i; k++) {
+      const ph = (2 * Math.PI * k) / (6 * i);
+      pos.push(CAP_R * Math.sin(th) * Math.cos(ph), CAP_R * Math.sin(th) * Math.sin(ph), CAP_R * Math.cos(th));
+    }
+  }
+  const tri = [];
+  for (let i = 1; i <= rings; i++) {
+    // Merge ring i − 1 (m vertices) and ring i (n) by azimuth; the pole is one vertex.
+    const [m, n, a0, b0] = [i === 1 ? 1 : 6 * (i - 1), 6 * i, start[i - 1], start[i]];
+    let [a, b] = [i === 1 ? 1 : 0, 0];
+    while (a < m || b < n) {
+      if (b < n && (a >= m || (b + 0.5) / n <= (a + 0.5) / m)) {
+        tri.push(a0 + (a % m), b0 + (b % n), b0 + ((b + 1) % n));
+        b++;
+      } else {
+        tri.push(a0 + (a % m), b0 + (b % n), a0 + ((a + 1) % m));
+        a++;
+      }
+    }
+  }
+  const rim = Array.from({ length: 6 * rings }, (_, k) => start[rings] + k);
+  const exact = (x, y, z) => CAP_R * (1 - Math.acos(Math.min(1, Math.max(-1, z / Math.hypot(x, y, z)))));
+  return { positions: Float64Array.from(pos, Math.fround), triangles: Uint32Array.from(tri), rim, exact };
+}
+
+/** Cube sphere: n × n cells a face (n even), 12·n² triangles; the south pole is a vertex. */
+function sphere(target) {
+  const n = 2 * Math.max(1, Math.round(Math.sqrt(target / 12) / 2));
+  const index = new Map();
+  const pos = [];
+  const id = (c) => {
+    const key = (c[0] * (n + 1) + c[1]) * (n + 1) + c[2];
+    let v = index.get(key);
+    if (v === undefined) {
+      const t = c.map((x) => Math.tan((Math.PI / 4) * ((2 * x) / n - 1)));
+      const l = Math.hypot(...t);
+      v = pos.length / 3;
+      pos.push(...t.map((x) => (SPHERE_R * x) / l));
+      index.set(key, v);
+    }
+    return v;
+  };
+  const tri = [];
+  for (let ax = 0; ax < 3; ax++) {
+    for (const side of [0, n]) {
+      const [ua, va] = [(ax + 1) % 3, (ax + 2) % 3];
+      for (let i = 0; i < n; i++) {
+        for (let j = 0; j < n; j++) {
+          const at = (di, dj) => { const c = [0, 0, 0]; c[ax] = side; c[ua] = i + di; c[va] = j + dj; return id(c); };
+          const q = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)];
+          const pair = (i + j) % 2 === 0 ? [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] : [[q[0], q[1], q[3]], [q[1], q[2], q[3]]];
+          for (const t of pair) tri.push(...(side === 0 ? [t[0], t[2], t[1]] : t));
+        }
+      }
+    }
+  }
+  const positions = Float64Array.from(pos, Math.fround);
+  let pole = 0;
+  for (let v = 1; v < positions.length / 3; v++) if (positions[3 * v + 2] < positions[3 * pole + 2]) pole = v;
+  const exact = (x, y, z) => SPHERE_R * Math.acos(Math.min(1, Math.max(-1, -z / Math.hypot(x, y, z))));
+  return { positions, triangles: Uint32Array.from(tri), pole, exact };
+}
+
+const SHAPES = { cap, sphere };
+
+function toBinaryStl({ positions: p, triangles: t }) {
+  const count = t.length / 3;
+  const bytes = new Uint8Array(84 + 50 * count);
+  const view = new DataView(bytes.buffer);
+  view.setUint32(80, count, true);
+  let o = 84;
+  for (let f = 0; f < count; f++) {
+    o += 12;
+    for (let k = 0; k < 3; k++) {
+      for (let c = 0; c < 3; c++) { view.setFloat32(o, p[3 * t[3 * f + k] + c], true); o += 4; }
+    }
+    o += 2;
+  }
+  return bytes;
+}
+
+function errors(positions, distance, exact) {
+  let [max, sum] = [0, 0];
+  for (let v = 0; v < distance.length; v++) {
+    const e = Math.abs(distance[v] - exact(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]));
+    max = Math.max(max, e);
+    sum += e;
+  }
+  return { maxError: max, meanError: sum / distance.length };
+}
+
+/** Child process: one method on one case. */
+async function runCase(shape, target, method) {
+  const { initSync, Mesh } = await import(join(root, 'dist/pkg/skinpath.js'));
+  initSync({ module: readFileSync(join(root, 'dist/pkg/skinpath_bg.wasm')) });
+  const mesh3 = SHAPES[shape](target);
+  const mesh = Mesh.fromStl(toBinaryStl(mesh3));
+  const positions = mesh.positions();
+  let source = { boundaryOf: 'mesh' };
+  if (shape === 'sphere') {
+    let pole = 0;
+    for (let v = 1; v < positions.length / 3; v++) if (positions[3 * v + 2] < positions[3 * pole + 2]) pole = v;
+    source = { vertices: [pole] };
+  }
+  const t = performance.now();
+  const field = mesh.geodesicDistance(source, { method });
+  const ms = performance.now() - t;
+  const result = { shape, triangles: mesh3.triangles.length / 3, method: field.method, ms,
+    ...errors(positions, field.vertexDistance(), mesh3.exact) };
+  field.free(); mesh.free();
+  return result;
+}
+
+const PYTHON_FMM = `
+import sys, time, json, numpy as np, potpourri3d as pp3d
+d = sys.argv[1]
+V = np.fromfile(d + '/V.bin', dtype=np.float64).reshape(-1, 3)
+F = np.fromfile(d + '/F.bin', dtype=np.int32).reshape(-1, 3)
+src = [int(x) for x in np.fromfile(d + '/S.bin', dtype=np.int32)]
+closed = sys.argv[2] == 'closed'
+t0 = time.perf_counter()
+solver = pp3d.MeshFastMarchingDistanceSolver(V, F)
+t1 = time.perf_counter()
+curve = [(v, []) for v in src] + ([(src[0], [])] if closed else [])
+dist = np.asarray(solver.compute_distance([curve], [], False))
+t2 = time.perf_counter()
+dist.astype(np.float64).tofile(d + '/D.bin')
+print(json.dumps({'setup': 1000 * (t1 - t0), 'solve': 1000 * (t2 - t1)}))
+`;
+
+/** The venv's python with potpourri3d 1.4.0, or a reason why there is none. */
+function potpourri() {
+  const python = join(VENV, 'bin', 'python');
+  const ok = () => spawnSync(python, ['-c', 'import potpourri3d'], { stdio: 'ignore' }).status === 0;
+  if (existsSync(python) && ok()) return { python };
+  if (spawnSync('python3', ['--version'], { stdio: 'ignore' }).status !== 0) return { why: 'python3 is not available' };
+  mkdirSync(dirname(VENV), { recursive: true });
+  console.log(`(setting up potpourri3d 1.4.0 in a virtual environment: ${VENV})`);
+  const venv = spawnSync('python3', ['-m', 'venv', VENV], { encoding: 'utf8' });
+  if (venv.status !== 0) return { why: `python3 -m venv failed: ${(venv.stderr || '').trim().split('\n').pop()}` };
+  const pip = spawnSync(join(VENV, 'bin', 'pip'), ['install', '--quiet', 'potpourri3d==1.4.0'], { encoding: 'utf8' });
+  if (pip.status !== 0 || !ok()) return { why: `pip install potpourri3d==1.4.0 failed: ${(pip.stderr || '').trim().split('\n').pop()}` };
+  return { python };
+}
+
+/** Fast marching on the same mesh and source: times and errors. */
+function runFmm(python, shape, target) {
+  const m = SHAPES[shape](target);
+  const dir = mkdtempSync(join(tmpdir(), 'skinpath-fmm-'));
+  try {
+    writeFileSync(join(dir, 'V.bin'), new Uint8Array(m.positions.buffer));
+    writeFileSync(join(dir, 'F.bin'), new Uint8Array(Int32Array.from(m.triangles).buffer));
+    const src = shape === 'cap' ? m.rim : [m.pole];
+    writeFileSync(join(dir, 'S.bin'), new Uint8Array(Int32Array.from(src).buffer));
+    const out = execFileSync(python, ['-c', PYTHON_FMM, dir, shape === 'cap' ? 'closed' : 'point'], { encoding: 'utf8' });
+    const times = JSON.parse(out.trim().split('\n').pop());
+    const d = new Float64Array(readFileSync(join(dir, 'D.bin')).buffer.slice(0));
+    return { ...times, ...errors(m.positions, d, m.exact) };
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
+  }
+}
+
+export async function main() {
+  console.log('\ngeodesic distance on doubly curved meshes against the analytic distance:' +
+    `\n  cap: R ${CAP_R} mm, half-angle 1 rad, rim as source, distance R·(1 − θ);` +
+    `\n  sphere: R ${SPHERE_R} mm (cube sphere), point source at the south pole, great-circle distance.` +
+    '\n  Time: geodesicDistance alone (WebAssembly in Node); fast marching: potpourri3d 1.4.0, native, solve' +
+    ' (and setup + solve); ×FMM: time / fast-marching solve time.');
+  const fmm = potpourri();
+  if (fmm.why) console.log(`  fast marching column left out: ${fmm.why}.`);
+  console.log('shape    triangles  method          time ms   ×FMM   max err mm  mean err mm');
+  for (const shape of ['cap', 'sphere']) {
+    for (const size of SIZES) {
+      let ref = null;
+      if (fmm.python) {
+        try {
+          ref = runFmm(fmm.python, shape, size);
+        } catch (e) {
+          console.log(`  fast marching failed: ${e.message.split('\n')[0]}`);
+        }
+      }
+      let triangles = size;
+      for (const method of METHODS) {
+        if (method === 'exact' && size > EXACT_MAX) {
+          console.log(`${shape.padEnd(7)}${String(triangles).padStart(10)}  exact           skipped: minutes at this size (GEODESIC_EXACT_MAX=${EXACT_MAX})`);
+          continue;
+        }
+        const out = execFileSync(process.execPath, ['--max-old-space-size=8192', here, '--case', shape, String(size), method],
+          { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
+        const r = JSON.parse(out);
+        triangles = r.triangles;
+        const ratio = ref ? (r.ms / ref.solve).toFixed(2) : '–';
+        console.log(`${shape.padEnd(7)}${String(r.triangles).padStart(10)}  ${r.method.padEnd(12)}  ${r.ms.toFixed(0).padStart(9)}` +
+          `  ${ratio.padStart(5)}  ${r.maxError.toExponential(2).padStart(11)}  ${r.meanError.toExponential(2).padStart(11)}`);
+      }
+      if (ref) {
+        console.log(`${shape.padEnd(7)}${String(triangles).padStart(10)}  fast marching  ${ref.solve.toFixed(0).padStart(9)}` +
+          `  ${'1.00'.padStart(5)}  ${ref.maxError.toExponential(2).padStart(11)}  ${ref.meanError.toExponential(2).padStart(11)}` +
+          `   (setup + solve ${(ref.setup + ref.solve).toFixed(0)} ms)`);
+      }
+    }
+  }
+}
+
+const caseArg = process.argv.indexOf('--case');
+if (process.argv[1] === here && caseArg > 0) {
+  const [shape, size, method] = process.argv.slice(caseArg + 1);
+  process.stdout.write(JSON.stringify(await runCase(shape, Number(size), method)));
+} else if (process.argv[1] === here) {
+  await main();
+}

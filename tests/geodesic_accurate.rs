@@ -1,0 +1,277 @@
+//! The accurate (virtual source) geodesic method, the default: against analytic distances on a
+//! spherical cap, a sphere, a cylinder and folded plates, against the exact method on irregular
+//! doubly curved meshes, and the order of its error checked as the edges shrink.
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+use skinpath::geodesic::{
+    geodesic_distance, DistanceField, DistanceParams, GeodesicSource, Method,
+};
+use skinpath::math::{Point3, Real};
+use std::f64::consts::PI;
+
+#[path = "common/geodesic_shapes.rs"]
+mod shapes;
+use shapes::*;
+
+fn distance(s: &Shape, source: &GeodesicSource, method: Method) -> DistanceField {
+    let params = DistanceParams {
+        method,
+        ..DistanceParams::default()
+    };
+    geodesic_distance(&s.mesh, &s.adjacency, source, &params, &mut |_, _| {}).unwrap()
+}
+
+/// Largest and mean |d − analytic| over the vertices.
+fn errors(s: &Shape, d: &[Real], analytic: impl Fn(&Point3) -> Real) -> (Real, Real) {
+    let e: Vec<Real> = s
+        .mesh
+        .positions()
+        .iter()
+        .zip(d)
+        .map(|(p, d)| (d - analytic(p)).abs())
+        .collect();
+    (
+        e.iter().copied().fold(0.0, Real::max),
+        e.iter().sum::<Real>() / e.len() as Real,
+    )
+}
+
+const CAP_R: Real = 1000.0;
+const SPHERE_R: Real = 100.0;
+
+/// Distance from the rim of the cap (half-angle 1 rad): R·(θ0 − θ).
+fn cap_distance(p: &Point3) -> Real {
+    CAP_R * (1.0 - libm::acos((p.z / CAP_R).clamp(-1.0, 1.0)))
+}
+
+fn boundary() -> GeodesicSource {
+    GeodesicSource::Boundary { loop_index: None }
+}
+
+/// The cube sphere with its point source at the south pole, and the great-circle distance.
+fn sphere_case(n: usize) -> (Shape, GeodesicSource, impl Fn(&Point3) -> Real) {
+    let s = cube_sphere(n, SPHERE_R);
+    let south = s
+        .mesh
+        .positions()
+        .iter()
+        .position(|p| (p.z + SPHERE_R).abs() < 1e-9)
+        .unwrap() as u32;
+    let great_circle = |p: &Point3| SPHERE_R * libm::acos((-p.z / SPHERE_R).clamp(-1.0, 1.0));
+    (s, GeodesicSource::Vertices(vec![south]), great_circle)
+}
+
+#[test]
+fn is_the_default_and_reports_its_name() {
+    assert_eq!(DistanceParams::default().method, Method::Accurate);
+    let s = cap(8, CAP_R, 1.0);
+    let f = geodesic_distance(
+        &s.mesh,
+        &s.adjacency,
+        &boundary(),
+        &DistanceParams::default(),
+        &mut |_, _| {},
+    )
+    .unwrap();
+    assert_eq!(f.method, Method::Accurate);
+    assert_eq!(f.method.name(), "accurate");
+    assert_eq!(Method::Fast.name(), "fast");
+}
+
+#[test]
+fn spherical_cap_from_its_rim_is_near_the_analytic_distance() {
+    // 20 rings, 2400 triangles, edges of about 50 mm on R 1000.
+    let s = cap(20, CAP_R, 1.0);
+    let a = distance(&s, &boundary(), Method::Accurate);
+    check_field(&s, &a.vertex_distance);
+    let (max, mean) = errors(&s, &a.vertex_distance, cap_distance);
+    let (fmax, fmean) = errors(
+        &s,
+        &distance(&s, &boundary(), Method::Fast).vertex_distance,
+        cap_distance,
+    );
+    eprintln!(
+        "cap 20 rings: accurate max {max:.4} mean {mean:.5}; fast max {fmax:.4} mean {fmean:.5}"
+    );
+    // Away from the pole (where all fronts meet) the error is second order; it is largest
+    // there. The fast method is millimetres off on the same mesh.
+    assert!(max < 6.0 && mean < 0.25, "accurate: max {max}, mean {mean}");
+    assert!(mean * 5.0 < fmean, "accurate mean {mean} vs fast {fmean}");
+    // Within a face of the rim the distance is the straight-line one: 0 on the rim.
+    for (p, d) in s.mesh.positions().iter().zip(&a.vertex_distance) {
+        if cap_distance(p).abs() < 1e-9 {
+            assert!(d.abs() < 1e-9, "rim vertex at {d}");
+        }
+    }
+}
+
+#[test]
+fn sphere_point_source_is_near_the_great_circle_distance() {
+    let (s, src, exact) = sphere_case(12); // 1728 triangles
+    let a = distance(&s, &src, Method::Accurate);
+    check_field(&s, &a.vertex_distance);
+    let (max, mean) = errors(&s, &a.vertex_distance, &exact);
+    let (fmax, fmean) = errors(
+        &s,
+        &distance(&s, &src, Method::Fast).vertex_distance,
+        &exact,
+    );
+    eprintln!(
+        "sphere n 12: accurate max {max:.4} mean {mean:.5}; fast max {fmax:.4} mean {fmean:.5}"
+    );
+    assert!(max < 2.0 && mean < 0.3, "accurate: max {max}, mean {mean}");
+    assert!(
+        max < fmax && mean < fmean,
+        "accurate ({max}, {mean}) vs fast ({fmax}, {fmean})"
+    );
+}
+
+#[test]
+fn error_on_the_sphere_is_second_order_away_from_the_antipode() {
+    // The stated order: away from where fronts meet, halving the edges divides the error by
+    // about four (second order); checked as at least 3 on the mean error over the vertices
+    // within 3/4 of the half circumference, and at least 1.5 (first order) on the largest.
+    let measure = |n: usize| {
+        let (s, src, exact) = sphere_case(n);
+        let d = distance(&s, &src, Method::Accurate).vertex_distance;
+        let (mut near, mut count, mut max) = (0.0, 0usize, 0.0 as Real);
+        for (p, d) in s.mesh.positions().iter().zip(&d) {
+            let e = (d - exact(p)).abs();
+            max = max.max(e);
+            if exact(p) < 0.75 * PI * SPHERE_R {
+                near += e;
+                count += 1;
+            }
+        }
+        (near / count as Real, max)
+    };
+    let (coarse, coarse_max) = measure(8);
+    let (fine, fine_max) = measure(16);
+    eprintln!("sphere mean error (away from the antipode) {coarse:.5} → {fine:.5}; max {coarse_max:.4} → {fine_max:.4}");
+    assert!(fine * 3.0 < coarse, "mean {coarse} → {fine}");
+    assert!(fine_max * 1.5 < coarse_max, "max {coarse_max} → {fine_max}");
+}
+
+#[test]
+fn cylinder_ring_and_generator_sources_are_exact() {
+    let s = cylinder(48, 24);
+    let ring = GeodesicSource::Polyline {
+        points: ring(0.0, 48, 0.0),
+        closed: true,
+    };
+    let d = distance(&s, &ring, Method::Accurate).vertex_distance;
+    check_field(&s, &d);
+    let (max, _) = errors(&s, &d, |p| p.z);
+    assert!(max < 1e-9, "ring source: {max}");
+    // A generator through vertices: the distance is the unfolded arc of the 48-gon.
+    let generator = GeodesicSource::Polyline {
+        points: vec![Point3::new(R, 0.0, 0.0), Point3::new(R, 0.0, LEN)],
+        closed: false,
+    };
+    let chord = 2.0 * R * libm::sin(PI / 48.0);
+    let d = distance(&s, &generator, Method::Accurate).vertex_distance;
+    check_field(&s, &d);
+    let (max, _) = errors(&s, &d, |p| {
+        let k = (libm::atan2(p.y, p.x) / (2.0 * PI / 48.0)).round().abs();
+        k.min(48.0 - k) * chord
+    });
+    assert!(max < 1e-9, "generator source: {max}");
+}
+
+#[test]
+fn folded_plates_line_and_point_sources_are_exact() {
+    let s = plates(2.5);
+    // B unfolded into A's plane: (x, 0, z) → (x, −z).
+    let unfold = |p: &Point3| if p.z > 1e-12 { (p.x, -p.z) } else { (p.x, p.y) };
+    let edge = GeodesicSource::Polyline {
+        points: vec![Point3::new(0.0, 50.0, 0.0), Point3::new(150.0, 50.0, 0.0)],
+        closed: false,
+    };
+    let d = distance(&s, &edge, Method::Accurate).vertex_distance;
+    check_field(&s, &d);
+    let (max, _) = errors(&s, &d, |p| 50.0 - unfold(p).1);
+    assert!(max < 1e-9, "outer edge of A: {max}");
+    let v = s
+        .mesh
+        .positions()
+        .iter()
+        .position(|p| (p - Point3::new(75.0, 25.0, 0.0)).norm() < 1e-9)
+        .unwrap() as u32;
+    let d = distance(&s, &GeodesicSource::Vertices(vec![v]), Method::Accurate).vertex_distance;
+    let (max, _) = errors(&s, &d, |p| {
+        let u = unfold(p);
+        (u.0 - 75.0).hypot(u.1 - 25.0)
+    });
+    assert!(max < 1e-9, "point on A: {max}");
+}
+
+/// A jittered grid on a doubly curved bump (irregular triangles, no symmetry); coarse for its
+/// curvature (edges of about 2 against radii of 10–20), where fronts focus behind the bump.
+fn irregular(n: usize) -> Shape {
+    let (p, t) = grid(n, n, false, |u, v| {
+        let (i, j) = ((u * n as Real).round(), (v * n as Real).round());
+        let inner = |k: Real| k > 0.0 && k < n as Real;
+        let jitter = if inner(i) && inner(j) { 0.3 } else { 0.0 };
+        let x = 2.0 * (i + jitter * libm::sin(5.7 * i + 2.3 * j));
+        let y = 2.0 * (j + jitter * libm::cos(3.1 * i - 4.7 * j));
+        let z =
+            6.0 * libm::exp(
+                -((x - n as Real) * (x - n as Real) + (y - 0.8 * n as Real).powi(2))
+                    / (0.3 * (n * n) as Real),
+            ) + 1.5 * libm::sin(0.21 * x) * libm::cos(0.17 * y);
+        Point3::new(x, y, z)
+    });
+    shape(p, t)
+}
+
+#[test]
+fn irregular_meshes_agree_with_the_exact_method() {
+    for (name, s, src) in [
+        (
+            "jittered bump, point source",
+            irregular(24),
+            GeodesicSource::Vertices(vec![7 * 25 + 5]),
+        ),
+        (
+            "jittered bump, curve source",
+            irregular(24),
+            GeodesicSource::Polyline {
+                points: vec![Point3::new(4.0, 3.0, 10.0), Point3::new(40.0, 9.0, 10.0)],
+                closed: false,
+            },
+        ),
+        (
+            "height field, plane section",
+            height_field(2.0),
+            GeodesicSource::Plane {
+                point: Point3::new(30.0, 25.0, 0.0),
+                normal: nalgebra::Vector3::new(1.0, 0.3, 0.0),
+            },
+        ),
+    ] {
+        let e = distance(&s, &src, Method::Exact).vertex_distance;
+        let a = distance(&s, &src, Method::Accurate).vertex_distance;
+        let f = distance(&s, &src, Method::Fast).vertex_distance;
+        check_field(&s, &a);
+        let diff = |d: &[Real]| {
+            let v: Vec<Real> = d.iter().zip(&e).map(|(d, e)| (d - e).abs()).collect();
+            (
+                v.iter().copied().fold(0.0, Real::max),
+                v.iter().sum::<Real>() / v.len() as Real,
+            )
+        };
+        let ((amax, amean), (fmax, fmean)) = (diff(&a), diff(&f));
+        let scale = e.iter().copied().fold(0.0, Real::max);
+        eprintln!("{name}: |accurate − exact| max {amax:.4} mean {amean:.5}; |fast − exact| max {fmax:.4} mean {fmean:.5} (largest distance {scale:.1})");
+        assert!(
+            amax < 0.03 * scale && amean < 4e-3 * scale,
+            "{name}: {amax}, {amean}"
+        );
+        assert!(
+            amean <= fmean,
+            "{name}: accurate mean {amean} vs fast {fmean}"
+        );
+    }
+}
