@@ -83,7 +83,7 @@ fn passes_on_a_plate_never_turn_on_the_spot() {
                 order,
                 ..PathParams::default()
             };
-            let tp = path(&s, edge.clone(), Method::Mesh, &params);
+            let tp = path(&s, edge.clone(), Method::Fast, &params);
             let passes = check(&tp, 10.0, &format!("plate {cell}, edge"));
             assert!(passes >= 18, "{passes}");
         }
@@ -102,7 +102,7 @@ fn passes_on_a_plate_never_turn_on_the_spot() {
             GeodesicSource::Vertices(vec![0]),
             GeodesicSource::Vertices(vec![middle]),
         ] {
-            let tp = path(&s, source, Method::Mesh, &params);
+            let tp = path(&s, source, Method::Fast, &params);
             check(&tp, 10.0, &format!("plate {cell}, vertex"));
         }
     }
@@ -117,8 +117,8 @@ fn passes_on_a_cylinder_never_turn_on_the_spot() {
         closed: true,
     };
     for (spacing, method) in [
-        (10.0, Method::Mesh),
-        (7.5, Method::Mesh),
+        (10.0, Method::Fast),
+        (7.5, Method::Fast),
         (10.0, Method::Exact),
     ] {
         let params = PathParams {
@@ -143,6 +143,6 @@ fn passes_on_a_cylinder_never_turn_on_the_spot() {
         spacing: 10.0,
         ..PathParams::default()
     };
-    let tp = path(&s, line, Method::Mesh, &params);
+    let tp = path(&s, line, Method::Fast, &params);
     check(&tp, 10.0, "cylinder line");
 }
