@@ -224,13 +224,13 @@ test('toolPath: a ToolPath with flat arrays and the robot exports', () => {
   const a = path.axes();
   assert.ok(p[0] * a[0] + p[1] * a[1] < 0);
   const rapid = path.toRapid();
-  // One MoveL per distinct consecutive position (each pass starts where its link ends: the
-  // programs merge the two) and the retract; a MoveJ to the approach pose first.
+  // No two consecutive poses share a position (a link arrives at the pass's first point,
+  // which is not repeated): one MoveL per pose and the retract; a MoveJ to the approach first.
   let distinct = 1;
   for (let i = 1; i < n; i++) {
     if (Math.hypot(p[3 * i] - p[3 * i - 3], p[3 * i + 1] - p[3 * i - 2], p[3 * i + 2] - p[3 * i - 1]) > 1e-9) distinct++;
   }
-  assert.ok(distinct < n, 'links and pass starts share positions');
+  assert.equal(distinct, n, 'no position repeats');
   assert.equal(rapid[0].split('\n').filter((l) => l.trim().startsWith('MoveL')).length, distinct + 1);
   assert.equal(rapid[0].split('\n').filter((l) => l.trim().startsWith('MoveJ')).length, 1);
   assert.ok(path.toKrl()[0].includes('DEF'));
