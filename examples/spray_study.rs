@@ -121,6 +121,34 @@ fn main() {
         plan.path_length * mm_per_unit / 1000.0,
         plan.raster_angle.to_degrees()
     );
+    // Gun-on reversals (consecutive moves turning by more than 150°): a robot stops there.
+    let poses = &plan.path.poses;
+    let mut reversals = Vec::new();
+    for k in 1..poses.len().saturating_sub(1) {
+        let (a, b) = (
+            poses[k].position - poses[k - 1].position,
+            poses[k + 1].position - poses[k].position,
+        );
+        if poses[k].kind.process_on()
+            && poses[k + 1].kind.process_on()
+            && a.norm() > 0.0
+            && b.norm() > 0.0
+            && a.dot(&b) < (150f64).to_radians().cos() * a.norm() * b.norm()
+        {
+            reversals.push((
+                k,
+                a.norm() * mm_per_unit,
+                b.norm() * mm_per_unit,
+                poses[k].kind,
+                poses[k + 1].kind,
+            ));
+        }
+    }
+    println!(
+        "  gun-on reversals: {}; first: {:?}",
+        reversals.len(),
+        &reversals[..reversals.len().min(6)]
+    );
     for it in &plan.iterations {
         println!(
             "    b {:7.1} mm δ {:5.1} % E {:5.2} µm {} {}",

@@ -469,11 +469,32 @@ fn no_plan_turns_the_gun_on_the_spot() {
             .count();
         assert!(on > 10, "{name}");
         assert_eq!(turns_on_the_spot(&plan.path, 1e-6 * H), 0, "{name}");
+        assert_eq!(
+            gun_on_reversals(&plan.path),
+            0,
+            "{name}: the gun steps back"
+        );
         assert!(
             closest_gun_on(m, &plan.path) >= 0.99 * H * (10f64.to_radians()).cos(),
             "{name}"
         );
     }
+}
+
+/// Gun-on poses where the path turns back by more than 150° (a controller stops there).
+fn gun_on_reversals(path: &ToolPath) -> usize {
+    let cos_limit = (150f64).to_radians().cos();
+    path.poses
+        .windows(3)
+        .filter(|w| {
+            let (a, b) = (w[1].position - w[0].position, w[2].position - w[1].position);
+            w[1].kind.process_on()
+                && w[2].kind.process_on()
+                && a.norm() > 0.0
+                && b.norm() > 0.0
+                && a.dot(&b) < cos_limit * a.norm() * b.norm()
+        })
+        .count()
 }
 
 /// The path as the planner wrote it before: each straight transition turned the gun on the

@@ -62,6 +62,12 @@ const CAP_GAP_RATIO: Real = 0.05;
 const CAP_PLANE_SINE: Real = 0.25;
 /// Relative slack on the number of arc steps (see [`arc_steps`]).
 const ARC_STEP_SLACK: Real = 1e-6;
+/// A gun-on backtrack (a turn beyond 150°) with a leg shorter than this multiple of the
+/// standoff loses the pose at its tip (no paper; see [`build_trajectory`]).
+pub const BACKTRACK_RATIO: Real = 0.06;
+/// Cosine of the turn beyond which consecutive moves count as turning back (150°, as the
+/// exporters' exact stops).
+const REVERSAL_COS: Real = -0.866_025_403_784_438_6;
 /// Consecutive poses closer than this multiple of the standoff are merged into one.
 pub const SAME_POSITION_RATIO: Real = 1e-6;
 /// Normals closer than this angle (radians) count as coplanar: no transition.
@@ -88,6 +94,8 @@ pub struct TrajectoryCounts {
     /// Pass ends where a crossing cut the round cap, so the pass ends by turning around its
     /// end point at the standoff instead of with the extension.
     pub capped: usize,
+    /// Short gun-on backtracks removed (a concave crossing just behind the previous pose).
+    pub backtracks: usize,
 }
 
 /// Unit vector along `t` made perpendicular to `axis`; any perpendicular when `t ∥ axis`.
@@ -657,6 +665,25 @@ pub fn build_trajectory(
                 kind,
                 pass: pass_id,
             });
+            // A concave crossing a hair behind the previous pose (common on faceted skins)
+            // makes the gun step back and forth, which a controller runs as a stop (a paint
+            // dwell): the pose at the tip of such a short backtrack is dropped. Each round
+            // removes a pose, so the loop ends.
+            while poses.len() >= begin + 3 {
+                let n = poses.len();
+                let (p0, p1, p2) = (&poses[n - 3], &poses[n - 2], &poses[n - 1]);
+                let (a, b) = (p1.position - p0.position, p2.position - p1.position);
+                let short = a.norm().min(b.norm()) <= BACKTRACK_RATIO * standoff;
+                let back = a.dot(&b) < REVERSAL_COS * a.norm() * b.norm();
+                if !(p1.kind.process_on() && p2.kind.process_on() && short && back) {
+                    break;
+                }
+                let chord = p2.position - p0.position;
+                let axis = p2.axis;
+                poses.remove(n - 2);
+                poses[n - 2].travel = perpendicular(chord, &axis);
+                counts.backtracks += 1;
+            }
         }
     }
     let mut notes = vec![

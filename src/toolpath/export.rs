@@ -49,6 +49,9 @@ pub const ZERO_MOVE_MIN_MM: Real = 1e-5;
 /// A path turns back at a target when its incoming and outgoing moves make more than this
 /// angle (degrees): the controller must stop there exactly, or it reverses inside the zone.
 pub const REVERSAL_ANGLE_DEG: Real = 150.0;
+/// Turns within this many degrees below [`REVERSAL_ANGLE_DEG`] get an exact stop too: the
+/// written positions are rounded, which can turn them a little further.
+pub const REVERSAL_MARGIN_DEG: Real = 2.0;
 
 /// Options shared by the exports.
 #[derive(Clone, Debug, PartialEq)]
@@ -532,7 +535,9 @@ pub(crate) fn program(
     }
 
     // Reversals: the robot would turn back inside the zone and never reach the target.
-    let cos_limit = libm::cos(REVERSAL_ANGLE_DEG.to_radians());
+    // A margin below the angle, so a turn just under it cannot exceed it once the positions
+    // are rounded as written.
+    let cos_limit = libm::cos((REVERSAL_ANGLE_DEG - REVERSAL_MARGIN_DEG).to_radians());
     let point = |m: &Move| Vector3::from(m.position_mm);
     let mut turn_stops = 0;
     for i in 1..moves.len().saturating_sub(1) {
