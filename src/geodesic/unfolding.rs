@@ -55,10 +55,11 @@ const TIE_TOLERANCE: Real = 1e-12;
 /// Source segments searched on each side of a sample when seeding a crossed face.
 const SEED_WINDOW: usize = 4;
 
+/// A queue entry of the Dijkstra-ordered methods (this one and the accurate one).
 #[derive(Clone, Copy, PartialEq)]
-struct Entry {
-    d: Real,
-    v: u32,
+pub(super) struct Entry {
+    pub(super) d: Real,
+    pub(super) v: u32,
 }
 impl Eq for Entry {}
 impl Ord for Entry {

@@ -47,8 +47,8 @@ use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
 use super::source::ResolvedSource;
 use super::surface::{segment_distance, Surface};
 use super::unfolding::saddle_or_boundary_vertices;
+use super::unfolding::Entry;
 use crate::math::{Point3, Real, Vector3};
-use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 /// Relative slack (of the edge length) for a ray crossing an edge at or near its ends.
@@ -76,27 +76,6 @@ struct Virtual {
     sigma: Real,
     face: u32,
     extend: [bool; 2],
-}
-
-#[derive(Clone, Copy, PartialEq)]
-struct Entry {
-    d: Real,
-    v: u32,
-}
-impl Eq for Entry {}
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // Min-heap on distance, then vertex id, for a deterministic order.
-        other
-            .d
-            .total_cmp(&self.d)
-            .then_with(|| other.v.cmp(&self.v))
-    }
-}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
 }
 
 /// The nearest point to `x` of segment `[p, q]`, run on by [`EXTENSION`] beyond the ends marked.
