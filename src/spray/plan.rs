@@ -29,7 +29,7 @@ use super::samples::{sample_faces, EvaluationSamples};
 use super::search::{ripple, search_spacing, Fidelity, Iteration, Limits, FALLBACK_MARGIN};
 use super::speed::{optimise_speeds, SpeedLimits};
 use super::trajectory::{build_trajectory, TrajectoryCounts};
-use crate::math::{angle_between, Point3, Real, Vector3};
+use crate::math::{angle_between, Compact, Point3, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
 use crate::toolpath::ToolPath;
 
@@ -613,8 +613,6 @@ pub fn plan_spray(
         messages,
     })
 }
-
-use crate::math::Compact;
 
 fn trial(raster_angle: Real, e: &Evaluation) -> DirectionTrial {
     DirectionTrial {

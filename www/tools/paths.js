@@ -12,7 +12,7 @@ import { download, fileStem } from '../app/download.js';
 import { fieldText, integer, num } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
 import { cellHtml, cellOptions, mountCell, renderCell } from '../app/cell.js';
-import { viridis, viridisInto } from './spray.js';
+import { viridis, viridisInto } from '../app/colours.js';
 
 const P = 'paths.'; // settings key prefix
 

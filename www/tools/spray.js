@@ -9,6 +9,8 @@ import { download, fileStem } from '../app/download.js';
 import { fieldText, integer, num } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
 import { cellHtml, cellOptions, mountCell, renderCell } from '../app/cell.js';
+import { TURBO, VIRIDIS, gradient, hexRgb, turboInto, viridisInto } from '../app/colours.js';
+import { renderChart } from './spray-chart.js';
 
 const P = 'spray.'; // settings key prefix
 
@@ -72,13 +74,6 @@ const CLASSES = [
   { name: 'in', label: 'In tolerance', color: '#009E73' },
   { name: 'over', label: 'Over', color: '#D55E00' },
 ];
-/** Viridis, sampled at 9 stops (van der Walt & Smith, CC0): perceptually even, colour-blind safe. */
-const VIRIDIS = ['#440154', '#472d7b', '#3b528b', '#2c728e', '#21918c', '#28ae80', '#5ec962', '#addc30', '#fde725'];
-/**
- * Speed scale, sampled from Turbo (Mikhailov 2019, Apache-2.0) at 11 stops: a rainbow of even
- * lightness steps, distinct from the thickness map's viridis, slow = blue to fast = red.
- */
-const TURBO = ['#30123b', '#4454c4', '#4490fe', '#1fc8de', '#29efa2', '#7eff55', '#c1f334', '#f1ca3a', '#fe922a', '#ea4f0d', '#7a0403'];
 /** Worst regions on the map: ring colour, and the one the pointer is on in the list. */
 const HOTSPOT_COLOR = '#ff2d95';
 const HOTSPOT_HIGHLIGHT = '#ffffff';
@@ -98,47 +93,6 @@ const MAX_PASSES_SHOWN = 120;
 const MAX_TICKS = 1500;
 
 const $ = (id) => document.getElementById(id);
-
-function hexRgb(hex) {
-  const n = parseInt(hex.slice(1), 16);
-  return [(n >> 16) & 255, (n >> 8) & 255, n & 255];
-}
-
-/** Colour of t in [0, 1] on a scale of hex stops, written to `out[at … at + 2]` (no allocation). */
-function scaleInto(stops, t, out, at) {
-  const x = Math.min(Math.max(Number.isFinite(t) ? t : 0, 0), 1) * (stops.length - 1);
-  const i = Math.min(Math.floor(x), stops.length - 2);
-  const f = x - i;
-  const a = stops[i];
-  const b = stops[i + 1];
-  for (let k = 0; k < 3; k++) out[at + k] = Math.round(a[k] + (b[k] - a[k]) * f);
-}
-
-let turboRgb;
-
-/** Turbo colour of t in [0, 1] (the speed scale) written to `out[at … at + 2]`. */
-export function turboInto(t, out, at) {
-  turboRgb ??= TURBO.map(hexRgb);
-  scaleInto(turboRgb, t, out, at);
-}
-
-/** CSS gradient of a scale's stops, left to right. */
-const gradient = (stops) => `linear-gradient(to right, ${stops.map((c, i) => `${c} ${(100 * i) / (stops.length - 1)}%`).join(', ')})`;
-
-/** Viridis colour of t in [0, 1] as [r, g, b] bytes. */
-export function viridis(t) {
-  const out = [0, 0, 0];
-  viridisInto(t, out, 0);
-  return out;
-}
-
-let viridisRgb;
-
-/** `viridis(t)` written to `out[at … at + 2]`, allocating nothing (for per-vertex loops). */
-export function viridisInto(t, out, at) {
-  viridisRgb ??= VIRIDIS.map(hexRgb);
-  scaleInto(viridisRgb, t, out, at);
-}
 
 function fieldRow(f, prefix) {
   const title = f.title ? ` title="${f.title}"` : '';
@@ -823,7 +777,7 @@ class SprayTool {
         const { lo, hi } = this.#heatRange();
         nodes.push(el('p', 'legend-title', 'Coating thickness, µm'));
         const bar = el('div', 'legend-bar');
-        bar.style.backgroundImage = `linear-gradient(to right, ${VIRIDIS.map((c, i) => `${c} ${(100 * i) / (VIRIDIS.length - 1)}%`).join(', ')})`;
+        bar.style.backgroundImage = gradient(VIRIDIS);
         // Where target ± tolerance falls on the scale.
         const pos = (x) => Math.min(100, Math.max(0, hi > lo ? (100 * (x - lo)) / (hi - lo) : 50));
         const band = el('span', 'legend-band');
@@ -1020,74 +974,6 @@ function timeText(seconds) {
   if (seconds < 90) return `${Math.round(seconds)} s`;
   if (seconds < 5400) return `${Math.round(seconds / 60)} min`;
   return `${num(seconds / 3600, 2)} h`;
-}
-
-/**
- * δ (%) and E (µm) against spacing (mm) from SprayPlan.iterations(): two y axes, dashed limit
- * lines; full-resolution figures as filled marks joined by solid lines, the coarse screening
- * as hollow marks joined by thin dotted lines; a ▲ under each spacing that meets the limits;
- * the chosen spacing marked.
- */
-function renderChart(svg, iterations, chosen, limits, mm, um) {
-  const W = 380;
-  const H = 190;
-  const m = { l: 44, r: 44, t: 14, b: 34 };
-  const its = [...iterations].sort((a, b) => a.spacing - b.spacing);
-  svg.setAttribute('viewBox', `0 0 ${W} ${H}`);
-  if (its.length === 0) {
-    svg.innerHTML = '';
-    return;
-  }
-  const xs = its.map((it) => it.spacing * mm);
-  const ds = its.map((it) => it.error * 100);
-  const es = its.map((it) => it.stdDev * um);
-  const dLimit = limits ? limits.maxError * 100 : null;
-  const eLimit = limits ? limits.maxStdDev * um : null;
-  const xMin = Math.min(...xs);
-  const xMax = Math.max(...xs);
-  const dMax = Math.max(...ds, dLimit ?? 0) * 1.1 || 1;
-  const eMax = Math.max(...es, eLimit ?? 0) * 1.1 || 1;
-  const x = (v) => m.l + (xMax > xMin ? ((v - xMin) / (xMax - xMin)) * (W - m.l - m.r) : (W - m.l - m.r) / 2);
-  const yd = (v) => H - m.b - (v / dMax) * (H - m.t - m.b);
-  const ye = (v) => H - m.b - (v / eMax) * (H - m.t - m.b);
-  // A polyline through the points of one fidelity (coarse or full), in spacing order.
-  const line = (ys, f, full) => ys.map((v, i) => [v, i]).filter(([, i]) => Boolean(its[i].full ?? true) === full)
-    .map(([v, i], k) => `${k ? 'L' : 'M'}${x(xs[i]).toFixed(1)},${f(v).toFixed(1)}`).join('');
-  const D = '#0072B2';
-  const E = '#D55E00';
-  const ticks = (max, f, side, color) => [0, 0.5, 1].map((k) => {
-    const v = (max / 1.1) * k;
-    const tx = side === 'l' ? m.l - 4 : W - m.r + 4;
-    return `<text x="${tx}" y="${f(v) + 3}" text-anchor="${side === 'l' ? 'end' : 'start'}" fill="${color}">${num(v, 2)}</text>`;
-  }).join('');
-  const xt = [xMin, (xMin + xMax) / 2, xMax].map((v) => `<text x="${x(v)}" y="${H - m.b + 14}" text-anchor="middle">${num(v, 3)}</text>`).join('');
-  let chosenDrawn = false;
-  const dots = its.map((it, i) => {
-    const full = it.full ?? true;
-    const isChosen = !chosenDrawn && full && Math.abs(it.spacing - chosen) <= 1e-9 * chosen;
-    chosenDrawn ||= isChosen;
-    const cls = full ? 'full' : 'coarse';
-    const px = x(xs[i]);
-    return `<circle class="${cls}" cx="${px}" cy="${yd(ds[i])}" r="${full ? 3 : 2.5}" fill="${full ? D : '#fff'}" stroke="${D}"/>` +
-      `<rect class="${cls}" x="${px - 3}" y="${ye(es[i]) - 3}" width="6" height="6" fill="${full ? E : '#fff'}" stroke="${E}"/>` +
-      (limits && it.met ? `<path class="met" d="M${px.toFixed(1)},${H - m.b - 7}l3.5,6h-7z" fill="#009E73"/>` : '') +
-      (isChosen ? `<line x1="${px}" x2="${px}" y1="${m.t}" y2="${H - m.b}" stroke="#1d232a" stroke-width="1"/>` +
-        `<text x="${px}" y="${m.t - 3}" text-anchor="middle">chosen</text>` : '');
-  }).join('');
-  const limitLines = limits
-    ? `<line x1="${m.l}" x2="${W - m.r}" y1="${yd(dLimit)}" y2="${yd(dLimit)}" stroke="${D}" stroke-dasharray="4 3"/>` +
-      `<line x1="${m.l}" x2="${W - m.r}" y1="${ye(eLimit)}" y2="${ye(eLimit)}" stroke="${E}" stroke-dasharray="4 3"/>`
-    : '';
-  svg.innerHTML = `<g class="axes" stroke="#9aa3ad"><line x1="${m.l}" x2="${W - m.r}" y1="${H - m.b}" y2="${H - m.b}"/>` +
-    `<line x1="${m.l}" x2="${m.l}" y1="${m.t}" y2="${H - m.b}"/><line x1="${W - m.r}" x2="${W - m.r}" y1="${m.t}" y2="${H - m.b}"/></g>` +
-    `<g class="labels">${ticks(dMax, yd, 'l', D)}${ticks(eMax, ye, 'r', E)}${xt}` +
-    `<text x="${(W) / 2}" y="${H - 4}" text-anchor="middle">pass spacing, mm</text>` +
-    `<text x="4" y="${m.t + 2}" fill="${D}">δ %</text><text x="${W - 4}" y="${m.t + 2}" text-anchor="end" fill="${E}">E µm</text></g>` +
-    limitLines +
-    `<path d="${line(ds, yd, false)}" fill="none" stroke="${D}" stroke-width="0.8" stroke-dasharray="1.5 2"/>` +
-    `<path d="${line(es, ye, false)}" fill="none" stroke="${E}" stroke-width="0.8" stroke-dasharray="1.5 2"/>` +
-    `<path d="${line(ds, yd, true)}" fill="none" stroke="${D}" stroke-width="1.5"/>` +
-    `<path d="${line(es, ye, true)}" fill="none" stroke="${E}" stroke-width="1.5"/>` + dots;
 }
 
 export const sprayTool = new SprayTool();
