@@ -14,6 +14,10 @@
 //!         [`CHUNK_RADIUS_RATIO`]·R long and visits the grid cells of its swept cone,
 //!         truncated at an axial distance of [`MAX_AXIAL_RATIO`]·h; each point gets about
 //!         `2R / piece + 1` pieces × 3 evaluations instead of `2R / (v·Δt)` time steps.
+//!         Where the speed changes within a piece, each chord is cut there and each stretch
+//!         integrated on its own (two points on stretches of at most
+//!         [`SHORT_STRETCH_RATIO`]·R, where the rate is nearly a parabola), so per-move
+//!         speeds do not shorten the pieces.
 //! Deviations: occlusion by other parts of the mesh is ignored (every point in the cone
 //!         with `cos λ > 0` is coated); points farther than `MAX_AXIAL_RATIO·h` along the axis
 //!         are ignored; the gun moves at constant speed along every gun-on move (arcs
@@ -85,6 +89,11 @@ pub fn time_sample_count(path: &ToolPath, step_length: Real) -> usize {
 const GAUSS_NODES: [Real; 3] = [-0.774_596_669_241_483_4, 0.0, 0.774_596_669_241_483_4];
 /// Gauss–Legendre weights matching [`GAUSS_NODES`].
 const GAUSS_WEIGHTS: [Real; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
+/// Two-point Gauss–Legendre nodes (exact for polynomials of degree 3).
+const GAUSS2_NODES: [Real; 2] = [-0.577_350_269_189_625_8, 0.577_350_269_189_625_8];
+/// A stretch of chord at most this multiple of `R` long is integrated with two points
+/// (the rate along it is a parabola on a plane, and nearly one over so short a stretch).
+const SHORT_STRETCH_RATIO: Real = 0.5;
 /// Longest run of gun-on moves integrated as one piece, as a multiple of `R`.
 pub const CHUNK_RADIUS_RATIO: Real = 4.0;
 /// Largest turn (radians) of the gun axis or of the travel direction within one piece.
@@ -96,13 +105,13 @@ const MIN_LATERAL: Real = 0.5;
 /// Thickness per sample after spraying `path`: at speed `speed` along every gun-on move, or
 /// at the path's per-move speeds ([`ToolPath::speeds`]) when it has them.
 ///
-/// Consecutive gun-on moves at one speed are grouped into pieces of at most
+/// Consecutive gun-on moves are grouped into pieces of at most
 /// [`CHUNK_RADIUS_RATIO`]·R whose axis and direction turn by at most [`CHUNK_TURN_RAD`]. For
 /// each sample near a piece, the chord of the piece's straight line (start to end, mean axis)
 /// inside the cone is found in closed form (a quadratic in the line parameter), and the rate
-/// is integrated over that chord by 3-point Gauss–Legendre at the exact interpolated poses. On
-/// a plane under a constant axis the rate along the chord is a parabola, so the quadrature is
-/// exact there. Pieces moving nearly along their axis fall back to midpoint time steps of
+/// is integrated over that chord (over each stretch of one speed) by Gauss–Legendre at the
+/// exact interpolated poses. On a plane under a constant axis the rate along the chord is a
+/// parabola, so the quadrature is exact there. Pieces moving nearly along their axis fall back to midpoint time steps of
 /// `time_step`, which also bounds the work ([`MAX_TIME_SAMPLES`]).
 pub fn deposit(
     path: &ToolPath,
@@ -116,23 +125,29 @@ pub fn deposit(
     let mut thickness = vec![0.0; samples.positions.len()];
     let varying = path.has_varying_speed();
     let move_speed = |i: usize| if varying { path.move_speed(i) } else { speed };
-    for_each_piece(
-        path,
-        model,
-        |i| varying && path.move_speed(i) != path.move_speed(i - 1),
-        |range, cumulative| {
-            let speed = move_speed(range.start + 1);
-            deposit_piece(
-                &path.poses[range],
-                cumulative,
-                samples,
-                grid,
-                model,
-                step_length,
-                &mut |i, v| thickness[i] += v / speed,
-            );
-        },
-    );
+    // Where the speed changes within a piece: arc lengths and the speed from there on.
+    let (mut starts, mut speeds): (Vec<Real>, Vec<Real>) = (Vec::new(), Vec::new());
+    for_each_piece(path, model, |range, cumulative| {
+        starts.clear();
+        speeds.clear();
+        for (m, k) in (range.start + 1..range.end).enumerate() {
+            let v = move_speed(k);
+            if speeds.last() != Some(&v) {
+                starts.push(cumulative[m]);
+                speeds.push(v);
+            }
+        }
+        deposit_piece(
+            &path.poses[range],
+            cumulative,
+            &starts,
+            samples,
+            grid,
+            model,
+            step_length,
+            &mut |i, segment, v| thickness[i] += v / speeds[segment],
+        );
+    });
     Ok(thickness)
 }
 
@@ -155,13 +170,11 @@ pub(super) fn check_time_samples(
 }
 
 /// Cuts the gun-on moves of `path` into pieces of at most [`CHUNK_RADIUS_RATIO`]·R whose axis
-/// and travel turn by at most [`CHUNK_TURN_RAD`], also before every move `k` (the move that
-/// arrives at pose `k`) where `break_before(k)` holds; calls `visit(poses, arc lengths)` for
-/// each piece, the poses given as a range of `path.poses`.
+/// and travel turn by at most [`CHUNK_TURN_RAD`]; calls `visit(poses, arc lengths)` for each
+/// piece, the poses given as a range of `path.poses`.
 pub(super) fn for_each_piece(
     path: &ToolPath,
     model: &SprayModel,
-    break_before: impl Fn(usize) -> bool,
     mut visit: impl FnMut(std::ops::Range<usize>, &[Real]),
 ) {
     let poses = &path.poses;
@@ -187,7 +200,6 @@ pub(super) fn for_each_piece(
             let total = cumulative[cumulative.len() - 1] + length;
             if end > start
                 && (total > max_length
-                    || break_before(end + 1)
                     || poses[end + 1].axis.dot(&poses[start].axis) < cos_turn
                     || first_dir.is_some_and(|d| length > 0.0 && step.dot(&d) < cos_turn * length))
             {
@@ -231,20 +243,23 @@ fn pose_at(poses: &[Pose], cumulative: &[Real], sigma: Real) -> (Point3, Vector3
     (gun, axis)
 }
 
-/// Hands `add(sample, ∫ rate ds)` the coating of one piece (`poses`, arc lengths `cumulative`
-/// from its start) per unit of gun speed: divided by the speed, it is the thickness added.
-/// A sample may be handed more than once.
+/// Hands `add(sample, segment, ∫ rate ds)` the coating of one piece (`poses`, arc lengths
+/// `cumulative` from its start) per unit of gun speed, split into the segments of the piece
+/// that start at the arc lengths `segments` (increasing, the first 0): divided by the
+/// segment's speed, it is the thickness added. A sample may be handed more than once.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn deposit_piece(
     poses: &[Pose],
     cumulative: &[Real],
+    segments: &[Real],
     samples: &EvaluationSamples,
     grid: &PointGrid,
     model: &SprayModel,
     step_length: Real,
-    add: &mut dyn FnMut(usize, Real),
+    add: &mut dyn FnMut(usize, usize, Real),
 ) {
     let arc = cumulative[cumulative.len() - 1];
-    if arc <= 0.0 {
+    if arc <= 0.0 || segments.is_empty() {
         return;
     }
     let (first, last) = (&poses[0], &poses[poses.len() - 1]);
@@ -260,7 +275,16 @@ pub(super) fn deposit_piece(
     let ua = u.dot(&mean_axis);
     let c2 = 1.0 - k * ua * ua;
     if line <= 0.0 || c2 < MIN_LATERAL || !mean_axis.iter().all(|c| c.is_finite()) {
-        deposit_stepped(poses, samples, grid, model, step_length, add);
+        deposit_stepped(
+            poses,
+            cumulative,
+            segments,
+            samples,
+            grid,
+            model,
+            step_length,
+            add,
+        );
         return;
     }
     let reach = MAX_AXIAL_RATIO * model.standoff;
@@ -270,6 +294,7 @@ pub(super) fn deposit_piece(
     let margin = Vector3::repeat(reach * CHUNK_TURN_RAD);
     let (lo, hi) = (lo0.inf(&lo1) - margin, hi0.sup(&hi1) + margin);
     let to_arc = arc / line;
+    let short = SHORT_STRETCH_RATIO * model.radius;
     grid.for_each_in_box(&lo, &hi, |i| {
         let q = samples.positions[i];
         let w0 = q - first.position;
@@ -297,33 +322,67 @@ pub(super) fn deposit_piece(
         if s1 <= s0 {
             return;
         }
-        let (mid, half) = (0.5 * (s0 + s1), 0.5 * (s1 - s0));
-        let mut sum = 0.0;
-        for (x, wt) in GAUSS_NODES.iter().zip(&GAUSS_WEIGHTS) {
-            let (gun, axis) = pose_at(poses, cumulative, (mid + half * x) * to_arc);
-            sum += wt * model.rate(&(q - gun), &axis, &samples.normals[i]);
-        }
-        if sum > 0.0 {
-            add(i, sum * half * to_arc);
+        // The chord in arc length, cut where the segments change.
+        let (a0, a1) = (s0 * to_arc, s1 * to_arc);
+        let mut segment = segments.partition_point(|&x| x <= a0).saturating_sub(1);
+        // Each round moves to the next segment, so the loop ends.
+        while segment < segments.len() {
+            let from = a0.max(segments[segment]);
+            let to = segments.get(segment + 1).map_or(a1, |&x| a1.min(x));
+            if to > from {
+                let (mid, half) = (0.5 * (from + to), 0.5 * (to - from));
+                let n = &samples.normals[i];
+                let sum = if to - from <= short {
+                    GAUSS2_NODES
+                        .iter()
+                        .map(|x| {
+                            let (gun, axis) = pose_at(poses, cumulative, mid + half * x);
+                            model.rate(&(q - gun), &axis, n)
+                        })
+                        .sum::<Real>()
+                } else {
+                    GAUSS_NODES
+                        .iter()
+                        .zip(&GAUSS_WEIGHTS)
+                        .map(|(x, wt)| {
+                            let (gun, axis) = pose_at(poses, cumulative, mid + half * x);
+                            wt * model.rate(&(q - gun), &axis, n)
+                        })
+                        .sum::<Real>()
+                };
+                if sum > 0.0 {
+                    add(i, segment, sum * half);
+                }
+            }
+            if to >= a1 {
+                break;
+            }
+            segment += 1;
         }
     });
 }
 
-/// Midpoint time steps of length `step_length` over every move of a piece (per unit speed).
+/// Midpoint time steps of length `step_length` over every move of a piece (per unit speed),
+/// each handed to the segment its midpoint lies in.
+#[allow(clippy::too_many_arguments)]
 fn deposit_stepped(
     poses: &[Pose],
+    cumulative: &[Real],
+    segments: &[Real],
     samples: &EvaluationSamples,
     grid: &PointGrid,
     model: &SprayModel,
     step_length: Real,
-    add: &mut dyn FnMut(usize, Real),
+    add: &mut dyn FnMut(usize, usize, Real),
 ) {
-    for pair in poses.windows(2) {
+    for (m, pair) in poses.windows(2).enumerate() {
         let (p0, p1) = (&pair[0], &pair[1]);
         let length = (p1.position - p0.position).norm();
         if length <= 0.0 {
             continue;
         }
+        let middle = 0.5 * (cumulative[m] + cumulative[m + 1]);
+        let segment = segments.partition_point(|&x| x <= middle).saturating_sub(1);
         let n = (length / step_length).ceil().max(1.0) as usize;
         let ds = length / n as Real;
         for s in 0..n {
@@ -335,7 +394,7 @@ fn deposit_stepped(
                 let w = samples.positions[i] - gun;
                 let f = model.rate(&w, &axis, &samples.normals[i]);
                 if f > 0.0 {
-                    add(i, f * ds);
+                    add(i, segment, f * ds);
                 }
             });
         }

@@ -11,7 +11,9 @@
 //!         With quality limits, a second sample set at [`COARSE_RESOLUTION_RATIO`] times the
 //!         resolution serves the search's screening when it has at most half the samples
 //!         (on a mesh finer than the resolution, the full samples thinned to one per cube of
-//!         that size).
+//!         that size). On such a mesh the speed optimiser also solves on the full samples
+//!         thinned to one per cube of the resolution, and the speeds found are then deposited
+//!         on all of them: the figures are always those of every sample.
 //! Deviations: the patent keeps the speed constant; here, by default, the speed of each short
 //!         piece of path is optimised within `[minSpeed, maxSpeed]` ([`optimise_speeds`]),
 //!         towards `targetThickness` when given. Without speed optimisation, `targetThickness`
@@ -25,7 +27,7 @@ use super::grid::PointGrid;
 use super::params::{SprayError, SprayParams};
 use super::quality::{evaluate_quality, interior_mask, Quality, ThicknessStats};
 use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame};
-use super::samples::{sample_faces, EvaluationSamples};
+use super::samples::{sample_faces, subdivides, EvaluationSamples};
 use super::search::{ripple, search_spacing, Fidelity, Iteration, Limits, FALLBACK_MARGIN};
 use super::speed::{optimise_speeds, SpeedLimits};
 use super::trajectory::{build_trajectory, TrajectoryCounts};
@@ -157,9 +159,33 @@ struct Sampling {
     samples: EvaluationSamples,
     grid: PointGrid,
     interior: Vec<bool>,
+    /// The same samples thinned to one per cube of the resolution, when that leaves at most
+    /// [`COARSE_SAMPLE_FRACTION`] of them (a mesh finer than the resolution): the speed
+    /// optimiser solves on these, and the plan's speeds are then deposited on all samples.
+    solve: Option<Box<Sampling>>,
 }
 
 impl Sampling {
+    /// The samples thinned to one per cube of side `cell`, when markedly fewer.
+    fn thinned(&self, cell: Real, radius: Real) -> Option<Sampling> {
+        let (samples, origin) = self.samples.thinned(cell, &self.interior);
+        let fewer = samples.positions.len() as Real
+            <= COARSE_SAMPLE_FRACTION * self.samples.positions.len() as Real;
+        fewer.then(|| Sampling {
+            resolution: cell,
+            grid: PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius),
+            interior: origin.iter().map(|&i| self.interior[i]).collect(),
+            samples,
+            solve: None,
+        })
+    }
+
+    /// Gives the speed optimiser its thinned samples where they are markedly fewer.
+    fn with_solve_samples(mut self, radius: Real) -> Sampling {
+        self.solve = self.thinned(self.resolution, radius).map(Box::new);
+        self
+    }
+
     fn new(
         mesh: &TriMesh,
         adjacency: &FaceAdjacency,
@@ -184,6 +210,7 @@ impl Sampling {
             samples,
             grid,
             interior,
+            solve: None,
         })
     }
 }
@@ -245,21 +272,34 @@ impl Setup<'_> {
         let mut speed = v0;
         let (mut path, counts, passes) = self.trajectory(frame, spacing)?;
         let mut thickness = if self.params.optimise_speed {
+            let solve = sampling.solve.as_deref().unwrap_or(sampling);
             let plan = optimise_speeds(
                 &path,
-                &sampling.samples,
-                &sampling.grid,
-                &sampling.interior,
+                &solve.samples,
+                &solve.grid,
+                &solve.interior,
                 &self.model,
                 v0,
                 self.speed_limits,
                 self.params.target_thickness,
                 self.time_step,
-                sampling.resolution,
+                solve.resolution,
                 &|s| self.score(s),
             )?;
             path = plan.path;
-            plan.thickness
+            if sampling.solve.is_some() {
+                // The speeds solved on the thinned samples, deposited on all of them.
+                deposit(
+                    &path,
+                    &sampling.samples,
+                    &sampling.grid,
+                    &self.model,
+                    v0,
+                    self.time_step,
+                )?
+            } else {
+                plan.thickness
+            }
         } else {
             deposit(
                 &path,
@@ -337,7 +377,7 @@ pub fn plan_spray(
         frame.plane_offsets(params.spacing)?;
     }
     progress("spray samples", 0.0);
-    let full = Sampling::new(
+    let mut full = Sampling::new(
         mesh,
         adjacency,
         geometry,
@@ -348,44 +388,37 @@ pub fn plan_spray(
     )?;
     // The coarse samples, when they are markedly fewer.
     let coarse = if params.has_limits() {
-        let c = Sampling::new(
-            mesh,
-            adjacency,
-            geometry,
-            &frame,
-            COARSE_RESOLUTION_RATIO * resolved.resolution,
-            resolved.radius,
-            resolved.edge_exclusion,
-        )?;
-        let fewer = |c: &Sampling| {
-            (c.samples.positions.len() as Real)
-                <= COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real
-        };
-        if fewer(&c) {
-            Some(c)
+        let cell = COARSE_RESOLUTION_RATIO * resolved.resolution;
+        if subdivides(mesh, &frame.faces, cell) {
+            let c = Sampling::new(
+                mesh,
+                adjacency,
+                geometry,
+                &frame,
+                cell,
+                resolved.radius,
+                resolved.edge_exclusion,
+            )?;
+            // Where the mesh is finer than the resolution its vertices are the samples at
+            // any resolution: the screening thins them.
+            let c = c.thinned(cell, resolved.radius).unwrap_or(c);
+            let fewer = (c.samples.positions.len() as Real)
+                <= COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real;
+            if fewer {
+                Some(c)
+            } else {
+                full.thinned(cell, resolved.radius)
+            }
         } else {
-            // A mesh finer than the resolution: its vertices are the samples at any
-            // resolution, so the screening thins them instead.
-            let cell = COARSE_RESOLUTION_RATIO * resolved.resolution;
-            let samples = full.samples.thinned(cell, &full.interior);
-            let c = Sampling {
-                resolution: cell,
-                grid: PointGrid::new(&samples.positions, GRID_CELL_RATIO * resolved.radius),
-                interior: interior_mask(
-                    mesh,
-                    adjacency,
-                    &frame.faces,
-                    &frame.selected,
-                    &samples.positions,
-                    resolved.edge_exclusion,
-                ),
-                samples,
-            };
-            fewer(&c).then_some(c)
+            // The coarse samples would be the mesh's vertices: thin the full ones instead.
+            full.thinned(cell, resolved.radius)
         }
     } else {
         None
     };
+    if params.optimise_speed {
+        full = full.with_solve_samples(resolved.radius);
+    }
     progress("spray samples", 1.0);
     let limits = params
         .quality

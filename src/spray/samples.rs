@@ -2,7 +2,7 @@
 //!
 //! Source: spray patent (Tsinghua, Guan & Chen), step 6 evaluates thickness at points where
 //! equally spaced section planes cut the STL. No paper for this replacement: each triangle
-//! is split into `k²` sub-triangles with `k = ceil(longest edge / resolution)`, so coarse
+//! is split into `k²` sub-triangles with `k = round(longest edge / resolution)`, so coarse
 //! CAD meshes (a flat panel of two triangles) get dense samples too, and the sub-triangles
 //! form a display mesh for a smooth heat map.
 //! Input:  mesh, selected faces, resolution.
@@ -32,16 +32,26 @@ pub struct EvaluationSamples {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// Subdivisions of a face for `resolution`: its longest edge over the resolution, but no
-/// more than `2·√area / resolution`, so a sliver (a long edge, hardly any area) does not
-/// get thousands of samples; the two agree on well-shaped triangles.
+/// Subdivisions of a face for `resolution`: its longest edge over the resolution, rounded
+/// to the nearest whole number (so the samples are about the resolution apart: a mesh whose
+/// edges are about the resolution keeps its own vertices as samples), but no more than
+/// `2·√area / resolution`, so a sliver (a long edge, hardly any area) does not get
+/// thousands of samples; the two agree on well-shaped triangles.
 fn subdivisions(corners: &[Point3; 3], resolution: Real) -> usize {
     let [a, b, c] = corners;
     let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
     let area = 0.5 * (b - a).cross(&(c - a)).norm();
-    let by_edge = (longest / resolution).ceil();
+    let by_edge = (longest / resolution).round();
     let by_area = (2.0 * area.sqrt() / resolution).ceil();
     by_edge.min(by_area).max(1.0) as usize
+}
+
+/// Whether sampling `faces` at `resolution` subdivides any of them (if not, the samples are
+/// the faces' vertices).
+pub fn subdivides(mesh: &TriMesh, faces: &[u32], resolution: Real) -> bool {
+    faces
+        .iter()
+        .any(|&f| subdivisions(&mesh.corners(f as usize), resolution) > 1)
 }
 
 /// Samples the faces `faces` at `resolution` (at least their vertices).
@@ -172,11 +182,12 @@ impl EvaluationSamples {
     /// coarse screening on a mesh finer than the resolution): it keeps its position and
     /// normal and carries the weight of its whole cube; `keep_apart[i]` samples are thinned
     /// separately from the others (the interior from the band along the edge). No display
-    /// triangles.
-    pub fn thinned(&self, cell: Real, keep_apart: &[bool]) -> EvaluationSamples {
+    /// triangles. Also returns the index of each kept sample among `self`'s.
+    pub fn thinned(&self, cell: Real, keep_apart: &[bool]) -> (EvaluationSamples, Vec<usize>) {
         let mut index: rustc_hash::FxHashMap<(i64, i64, i64, bool), usize> =
             rustc_hash::FxHashMap::default();
         let mut out = EvaluationSamples::default();
+        let mut origin = Vec::new();
         for (i, p) in self.positions.iter().enumerate() {
             // Finite: samples lie on validated faces.
             let key = (
@@ -189,13 +200,14 @@ impl EvaluationSamples {
                 Some(&k) => out.weights[k] += self.weights[i],
                 None => {
                     index.insert(key, out.positions.len());
+                    origin.push(i);
                     out.positions.push(*p);
                     out.normals.push(self.normals[i]);
                     out.weights.push(self.weights[i]);
                 }
             }
         }
-        out
+        (out, origin)
     }
 }
 

@@ -24,13 +24,16 @@
 //! minimum of the quadratic along its axis, clamped to its bounds. For a convex quadratic with
 //! box constraints every sweep lowers the objective and the iteration converges to the
 //! minimum; it stops after [`MAX_SWEEPS`] sweeps or once no factor moved by more than
-//! [`SWEEP_TOLERANCE`].
+//! [`SWEEP_TOLERANCE`]. The descent runs on the normal equations `H = CᵀWC + μL`, built once
+//! per set of weights: a step then costs the pieces whose coatings overlap the moved one
+//! (a few dozen), not the samples it coats.
 //! Input:  a spray [`ToolPath`], evaluation samples and their grid, the interior mask, the
 //!         spray model, the reference speed, the speed limits, the target.
 //! Output: [`SpeedPlan`]: the path with its per-move speeds, the thickness they give.
-//! Cost:   building the coating matrix is one deposition with short pieces
-//!         (about `2R/L + 1` pieces reach each sample per pass, `L` the piece length); each
-//!         sweep is linear in its non-zeros.
+//! Cost:   building the coating matrix is one deposition, its chords cut where the piece
+//!         changes (about `2R/L + 1` pieces reach each sample per pass, `L` the piece
+//!         length); `H` costs the sum over samples of (pieces reaching it)², once per
+//!         weighting; each sweep is linear in the non-zeros of `H`.
 
 use super::deposition::{check_time_samples, deposit_piece, for_each_piece, SprayModel};
 use super::grid::PointGrid;
@@ -212,104 +215,216 @@ fn coating_matrix(
     v_ref: Real,
     step_length: Real,
 ) -> Coating {
-    let n = samples.positions.len();
-    let mut start = Vec::with_capacity(pieces + 1);
-    let mut rows: Vec<u32> = Vec::new();
-    let mut values: Vec<Real> = Vec::new();
-    // Where each sample's entry in the current column is (u32::MAX: none yet).
-    let mut slot = vec![u32::MAX; n];
-    let mut current = NO_PIECE;
-    let mut linked_to_next = vec![false; pieces];
-    let close_column = |rows: &[u32], from: usize, slot: &mut [u32]| {
+    // Entries as they come (piece, sample, value), a sample possibly more than once per
+    // piece; the deposition's own pieces are longer than the speed pieces and are cut where
+    // the speed piece changes.
+    let mut entries: Vec<(u32, u32, Real)> = Vec::new();
+    let (mut starts, mut owner): (Vec<Real>, Vec<u32>) = (Vec::new(), Vec::new());
+    for_each_piece(path, model, |range, cumulative| {
+        starts.clear();
+        owner.clear();
+        for (m, k) in (range.start + 1..range.end).enumerate() {
+            if owner.last() != Some(&piece_of[k]) {
+                starts.push(cumulative[m]);
+                owner.push(piece_of[k]);
+            }
+        }
+        deposit_piece(
+            &path.poses[range],
+            cumulative,
+            &starts,
+            samples,
+            grid,
+            model,
+            step_length,
+            &mut |i, segment, v| entries.push((owner[segment], i as u32, v / v_ref)),
+        );
+    });
+    // Counting sort by piece, then the repeats of a sample within a column summed.
+    let mut start = vec![0usize; pieces + 1];
+    for &(j, _, _) in &entries {
+        start[j as usize + 1] += 1;
+    }
+    for j in 0..pieces {
+        start[j + 1] += start[j];
+    }
+    let mut fill = start.clone();
+    let mut sorted: Vec<(u32, Real)> = vec![(0, 0.0); entries.len()];
+    for &(j, i, v) in &entries {
+        sorted[fill[j as usize]] = (i, v);
+        fill[j as usize] += 1;
+    }
+    drop(entries);
+    let mut slot = vec![u32::MAX; samples.positions.len()];
+    let mut rows: Vec<u32> = Vec::with_capacity(sorted.len());
+    let mut values: Vec<Real> = Vec::with_capacity(sorted.len());
+    let mut merged = Vec::with_capacity(pieces + 1);
+    merged.push(0);
+    for j in 0..pieces {
+        let from = rows.len();
+        for &(i, v) in &sorted[start[j]..start[j + 1]] {
+            match slot[i as usize] {
+                u32::MAX => {
+                    slot[i as usize] = rows.len() as u32;
+                    rows.push(i);
+                    values.push(v);
+                }
+                s => values[s as usize] += v,
+            }
+        }
         for &i in &rows[from..] {
             slot[i as usize] = u32::MAX;
         }
-    };
-    for_each_piece(
-        path,
-        model,
-        |k| piece_of[k] != piece_of[k - 1],
-        |range, cumulative| {
-            let j = piece_of[range.start + 1];
-            if j != current {
-                if current != NO_PIECE {
-                    close_column(&rows, start[start.len() - 1], &mut slot);
-                    // The previous piece ends where this one starts, gun on throughout.
-                    linked_to_next[current as usize] = j == current + 1
-                        && path.poses[range.start].kind.process_on()
-                        && piece_of[range.start] == current;
-                }
-                // Pieces are visited in order; a piece with no coating keeps an empty column.
-                while start.len() <= j as usize {
-                    start.push(rows.len());
-                }
-                current = j;
-            }
-            deposit_piece(
-                &path.poses[range],
-                cumulative,
-                samples,
-                grid,
-                model,
-                step_length,
-                &mut |i, v| {
-                    let v = v / v_ref;
-                    match slot[i] {
-                        u32::MAX => {
-                            slot[i] = rows.len() as u32;
-                            rows.push(i as u32);
-                            values.push(v);
-                        }
-                        s => values[s as usize] += v,
-                    }
-                },
-            );
-        },
-    );
-    while start.len() <= pieces {
-        start.push(rows.len());
+        merged.push(rows.len());
+    }
+    // Piece j is linked to j + 1 when a gun-on move of j is followed by one of j + 1.
+    let mut linked_to_next = vec![false; pieces];
+    for k in 1..piece_of.len() {
+        let (a, b) = (piece_of[k - 1], piece_of[k]);
+        if a != NO_PIECE && b == a.wrapping_add(1) {
+            linked_to_next[a as usize] = true;
+        }
     }
     Coating {
-        start,
+        start: merged,
         rows,
         values,
         linked_to_next,
     }
 }
 
-/// The box-constrained least-squares problem over the dwell factors.
+/// The coating matrix row by row (sample by sample), for the normal equations.
+struct Rows {
+    start: Vec<usize>,
+    pieces: Vec<u32>,
+    values: Vec<Real>,
+}
+
+impl Rows {
+    fn of(c: &Coating, samples: usize) -> Rows {
+        let mut start = vec![0usize; samples + 1];
+        for &i in &c.rows {
+            start[i as usize + 1] += 1;
+        }
+        for i in 0..samples {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut pieces = vec![0u32; c.rows.len()];
+        let mut values = vec![0.0; c.rows.len()];
+        for j in 0..c.pieces() {
+            let (rows, vals) = c.column(j);
+            for (&i, &v) in rows.iter().zip(vals) {
+                let at = &mut fill[i as usize];
+                pieces[*at] = j as u32;
+                values[*at] = v;
+                *at += 1;
+            }
+        }
+        Rows {
+            start,
+            pieces,
+            values,
+        }
+    }
+
+    fn row(&self, i: usize) -> (&[u32], &[Real]) {
+        let r = self.start[i]..self.start[i + 1];
+        (&self.pieces[r.clone()], &self.values[r])
+    }
+}
+
+/// The box-constrained least-squares problem over the dwell factors, in normal-equation
+/// form: `H = CᵀWC + μL` (`L` the smoothing's graph Laplacian), sparse by column (pieces
+/// whose coatings overlap), so a coordinate step costs the pieces it overlaps rather than
+/// the samples it coats.
 struct Problem<'a> {
     coating: &'a Coating,
+    rows: &'a Rows,
     lo: Real,
     hi: Real,
     mu: Real,
 }
 
+/// `H` by column, with its diagonal.
+struct Gram {
+    start: Vec<usize>,
+    pieces: Vec<u32>,
+    values: Vec<Real>,
+    diagonal: Vec<Real>,
+}
+
 impl Problem<'_> {
-    /// Cyclic coordinate descent from `x` with residuals `r = T − T*` (kept up to date) and
-    /// sample weights `w`; at most `sweeps` sweeps.
+    /// `H` for the sample weights `w`.
+    #[allow(clippy::needless_range_loop)] // j indexes the columns, the links and the diagonal
+    fn gram(&self, w: &[Real]) -> Gram {
+        let c = self.coating;
+        let m = c.pieces();
+        let mut start = Vec::with_capacity(m + 1);
+        start.push(0);
+        let (mut pieces, mut values) = (Vec::new(), Vec::new());
+        let mut diagonal = vec![0.0; m];
+        let mut acc = vec![0.0; m];
+        let mut seen = vec![false; m];
+        let mut touched: Vec<u32> = Vec::new();
+        let bump =
+            |k: usize, v: Real, acc: &mut [Real], seen: &mut [bool], touched: &mut Vec<u32>| {
+                if !seen[k] {
+                    seen[k] = true;
+                    touched.push(k as u32);
+                }
+                acc[k] += v;
+            };
+        for j in 0..m {
+            let (rows, vals) = c.column(j);
+            for (&i, &a) in rows.iter().zip(vals) {
+                let wa = w[i as usize] * a;
+                if wa == 0.0 {
+                    continue;
+                }
+                let (ks, bs) = self.rows.row(i as usize);
+                for (&k, &b) in ks.iter().zip(bs) {
+                    bump(k as usize, wa * b, &mut acc, &mut seen, &mut touched);
+                }
+            }
+            if j > 0 && c.linked_to_next[j - 1] {
+                bump(j, self.mu, &mut acc, &mut seen, &mut touched);
+                bump(j - 1, -self.mu, &mut acc, &mut seen, &mut touched);
+            }
+            if c.linked_to_next[j] {
+                bump(j, self.mu, &mut acc, &mut seen, &mut touched);
+                bump(j + 1, -self.mu, &mut acc, &mut seen, &mut touched);
+            }
+            for &k in &touched {
+                let k = k as usize;
+                if k == j {
+                    diagonal[j] = acc[k];
+                }
+                pieces.push(k as u32);
+                values.push(acc[k]);
+                acc[k] = 0.0;
+                seen[k] = false;
+            }
+            touched.clear();
+            start.push(pieces.len());
+        }
+        Gram {
+            start,
+            pieces,
+            values,
+            diagonal,
+        }
+    }
+
+    /// Cyclic coordinate descent from `x` with residuals `r = T − T*` and sample weights
+    /// `w`; at most `sweeps` sweeps. `r` is brought up to date at the end.
     fn descend(&self, x: &mut [Real], r: &mut [Real], w: &[Real], sweeps: usize) {
         let c = self.coating;
         let m = c.pieces();
-        let diagonal: Vec<Real> = (0..m)
+        let h = self.gram(w);
+        // Gradient (halved): CᵀW r + μ L x.
+        let mut g: Vec<Real> = (0..m)
             .map(|j| {
-                let (rows, values) = c.column(j);
-                let d: Real = rows
-                    .iter()
-                    .zip(values)
-                    .map(|(&i, &v)| w[i as usize] * v * v)
-                    .sum();
-                let links = usize::from(j > 0 && c.linked_to_next[j - 1])
-                    + usize::from(c.linked_to_next[j]);
-                d + self.mu * links as Real
-            })
-            .collect();
-        for _ in 0..sweeps {
-            let mut largest: Real = 0.0;
-            for j in 0..m {
-                if diagonal[j] <= 0.0 {
-                    continue;
-                }
                 let (rows, values) = c.column(j);
                 let mut g: Real = rows
                     .iter()
@@ -322,18 +437,39 @@ impl Problem<'_> {
                 if c.linked_to_next[j] {
                     g += self.mu * (x[j] - x[j + 1]);
                 }
-                let new = (x[j] - g / diagonal[j]).clamp(self.lo, self.hi);
+                g
+            })
+            .collect();
+        let start_x = x.to_vec();
+        for _ in 0..sweeps {
+            let mut largest: Real = 0.0;
+            for j in 0..m {
+                if h.diagonal[j] <= 0.0 {
+                    continue;
+                }
+                let new = (x[j] - g[j] / h.diagonal[j]).clamp(self.lo, self.hi);
                 let d = new - x[j];
                 if d != 0.0 {
                     x[j] = new;
-                    for (&i, &v) in rows.iter().zip(values) {
-                        r[i as usize] += v * d;
+                    let r = h.start[j]..h.start[j + 1];
+                    for (&k, &v) in h.pieces[r.clone()].iter().zip(&h.values[r]) {
+                        g[k as usize] += v * d;
                     }
                     largest = largest.max(d.abs());
                 }
             }
             if largest <= SWEEP_TOLERANCE {
                 break;
+            }
+        }
+        // r += C (x − x_start).
+        for j in 0..m {
+            let d = x[j] - start_x[j];
+            if d != 0.0 {
+                let (rows, values) = c.column(j);
+                for (&i, &v) in rows.iter().zip(values) {
+                    r[i as usize] += v * d;
+                }
             }
         }
     }
@@ -423,8 +559,10 @@ pub fn optimise_speeds(
     } else {
         0.0
     };
+    let rows = Rows::of(&coating, n);
     let problem = Problem {
         coating: &coating,
+        rows: &rows,
         lo,
         hi,
         mu: SMOOTHING * mean_diagonal,
