@@ -91,7 +91,13 @@ fn main() {
     }
     let q = SprayParams {
         quality: Some(QualityLimits {
-            max_error: Some(0.2),
+            max_error: Some(env_or("MAX_ERROR", 0.2)),
+            min_spacing: std::env::var("MIN_SPACING")
+                .ok()
+                .and_then(|v| v.parse().ok()),
+            max_spacing: std::env::var("MAX_SPACING")
+                .ok()
+                .and_then(|v| v.parse().ok()),
             ..QualityLimits::default()
         }),
         ..p
@@ -178,6 +184,13 @@ fn where_extremes(plan: &SprayPlan, across: &skinpath::math::Vector3) {
             );
         }
     }
+}
+
+fn env_or(name: &str, default: f64) -> f64 {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
 }
 
 /// CPU time of this process so far, ms (Linux; 0 elsewhere): steadier than wall time on a

@@ -225,12 +225,27 @@ fn cone_box(model: &SprayModel, gun: &Point3, axis: &Vector3) -> (Vector3, Vecto
     (gun.coords.inf(&(tip - half)), gun.coords.sup(&(tip + half)))
 }
 
-/// Gun position and unit axis at arc length `sigma` along a piece.
-fn pose_at(poses: &[Pose], cumulative: &[Real], sigma: Real) -> (Point3, Vector3) {
-    // First segment whose end lies at or beyond sigma.
-    let k = cumulative[1..]
-        .partition_point(|&c| c < sigma)
-        .min(cumulative.len() - 2);
+/// Gun position and unit axis at arc length `sigma` along a piece; `hint` is the move the
+/// previous call ended in (the search walks on from there when `sigma` lies further on, as
+/// it does along one chord) and is updated.
+fn pose_at(
+    poses: &[Pose],
+    cumulative: &[Real],
+    sigma: Real,
+    hint: &mut usize,
+) -> (Point3, Vector3) {
+    let last = cumulative.len() - 2;
+    // The first move whose end lies at or beyond sigma.
+    let mut k = (*hint).min(last);
+    if k > 0 && cumulative[k] >= sigma {
+        k = cumulative[1..].partition_point(|&c| c < sigma).min(last);
+    } else {
+        // Each step moves one move on, so the walk ends at `last`.
+        while k < last && cumulative[k + 1] < sigma {
+            k += 1;
+        }
+    }
+    *hint = k;
     let (p0, p1) = (&poses[k], &poses[k + 1]);
     let length = cumulative[k + 1] - cumulative[k];
     let tau = if length > 0.0 {
@@ -324,6 +339,7 @@ pub(super) fn deposit_piece(
         }
         // The chord in arc length, cut where the segments change.
         let (a0, a1) = (s0 * to_arc, s1 * to_arc);
+        let mut hint = 0;
         let mut segment = segments.partition_point(|&x| x <= a0).saturating_sub(1);
         // Each round moves to the next segment, so the loop ends.
         while segment < segments.len() {
@@ -336,7 +352,7 @@ pub(super) fn deposit_piece(
                     GAUSS2_NODES
                         .iter()
                         .map(|x| {
-                            let (gun, axis) = pose_at(poses, cumulative, mid + half * x);
+                            let (gun, axis) = pose_at(poses, cumulative, mid + half * x, &mut hint);
                             model.rate(&(q - gun), &axis, n)
                         })
                         .sum::<Real>()
@@ -345,7 +361,7 @@ pub(super) fn deposit_piece(
                         .iter()
                         .zip(&GAUSS_WEIGHTS)
                         .map(|(x, wt)| {
-                            let (gun, axis) = pose_at(poses, cumulative, mid + half * x);
+                            let (gun, axis) = pose_at(poses, cumulative, mid + half * x, &mut hint);
                             wt * model.rate(&(q - gun), &axis, n)
                         })
                         .sum::<Real>()

@@ -98,8 +98,11 @@ pub fn interior_mask(
     if band <= 0.0 {
         return vec![true; samples.len()];
     }
-    // Boundary edges cut into pieces of at most `band`: a piece within `band` of a sample
-    // has its midpoint within 1.5·band, inside the sample's 3×3×3 cells of size 2·band.
+    // Boundary edges cut into pieces of at most `band / 2`: a piece within `band` of a sample
+    // has its midpoint within 1.25·band, inside the box of that half-width around the
+    // sample, which covers few cells of size `band / 2`; the first piece found within
+    // `band` decides, so a sample near the boundary stops early.
+    let piece = 0.5 * band;
     let mut pieces: Vec<Point3> = Vec::new();
     let mut ends: Vec<(Point3, Point3)> = Vec::new();
     for &f in faces {
@@ -110,7 +113,7 @@ pub fn interior_mask(
             }
             let a = mesh.positions()[tri[e] as usize];
             let b = mesh.positions()[tri[(e + 1) % 3] as usize];
-            let n = ((b - a).norm() / band).ceil().max(1.0) as usize;
+            let n = ((b - a).norm() / piece).ceil().max(1.0) as usize;
             for s in 0..n {
                 let p = a + (b - a) * (s as Real / n as Real);
                 let q = a + (b - a) * ((s + 1) as Real / n as Real);
@@ -122,24 +125,18 @@ pub fn interior_mask(
     if pieces.is_empty() {
         return vec![true; samples.len()];
     }
-    let grid = PointGrid::new(&pieces, 2.0 * band);
+    let grid = PointGrid::new(&pieces, piece);
+    let reach = crate::math::Vector3::repeat(1.25 * band);
     samples
         .iter()
         .map(|x| {
-            let reach = crate::math::Vector3::repeat(1.5 * band);
-            let mut inside = true;
-            grid.for_each_in_box(&(x.coords - reach), &(x.coords + reach), |i| {
-                if inside {
-                    let (p, q) = ends[i];
-                    let d = q - p;
-                    let t = ((x - p).dot(&d) / d.norm_squared().max(Real::MIN_POSITIVE))
-                        .clamp(0.0, 1.0);
-                    if (x - (p + d * t)).norm() < band {
-                        inside = false;
-                    }
-                }
-            });
-            inside
+            !grid.any_in_box(&(x.coords - reach), &(x.coords + reach), |i| {
+                let (p, q) = ends[i];
+                let d = q - p;
+                let t =
+                    ((x - p).dot(&d) / d.norm_squared().max(Real::MIN_POSITIVE)).clamp(0.0, 1.0);
+                (x - (p + d * t)).norm() < band
+            })
         })
         .collect()
 }
