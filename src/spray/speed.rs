@@ -416,12 +416,71 @@ impl Problem<'_> {
         }
     }
 
-    /// Cyclic coordinate descent from `x` with residuals `r = T − T*` and sample weights
-    /// `w`; at most `sweeps` sweeps. `r` is brought up to date at the end.
-    fn descend(&self, x: &mut [Real], r: &mut [Real], w: &[Real], sweeps: usize) {
+    /// `H` for the sample weights `w` on the sparsity of `pattern`, an `H` built for weights
+    /// that are zero on the same samples (or on fewer): no bookkeeping of which entries a
+    /// column touches.
+    #[allow(clippy::needless_range_loop)] // j indexes the columns, the links and the diagonal
+    fn regram(&self, w: &[Real], pattern: &Gram) -> Gram {
         let c = self.coating;
         let m = c.pieces();
-        let h = self.gram(w);
+        let mut values = vec![0.0; pattern.values.len()];
+        let mut diagonal = vec![0.0; m];
+        let mut acc = vec![0.0; m];
+        for j in 0..m {
+            let (rows, vals) = c.column(j);
+            for (&i, &a) in rows.iter().zip(vals) {
+                let wa = w[i as usize] * a;
+                if wa == 0.0 {
+                    continue;
+                }
+                let (ks, bs) = self.rows.row(i as usize);
+                for (&k, &b) in ks.iter().zip(bs) {
+                    acc[k as usize] += wa * b;
+                }
+            }
+            if j > 0 && c.linked_to_next[j - 1] {
+                acc[j] += self.mu;
+                acc[j - 1] -= self.mu;
+            }
+            if c.linked_to_next[j] {
+                acc[j] += self.mu;
+                acc[j + 1] -= self.mu;
+            }
+            let r = pattern.start[j]..pattern.start[j + 1];
+            for (v, &k) in values[r.clone()].iter_mut().zip(&pattern.pieces[r]) {
+                let k = k as usize;
+                *v = acc[k];
+                if k == j {
+                    diagonal[j] = acc[k];
+                }
+                acc[k] = 0.0;
+            }
+        }
+        Gram {
+            start: pattern.start.clone(),
+            pieces: pattern.pieces.clone(),
+            values,
+            diagonal,
+        }
+    }
+
+    /// Cyclic coordinate descent from `x` with residuals `r = T − T*` and sample weights
+    /// `w`; at most `sweeps` sweeps. `r` is brought up to date at the end. `H` is built on
+    /// the sparsity of `pattern` when given (see [`Problem::regram`]); returns it.
+    fn descend(
+        &self,
+        x: &mut [Real],
+        r: &mut [Real],
+        w: &[Real],
+        sweeps: usize,
+        pattern: Option<&Gram>,
+    ) -> Gram {
+        let c = self.coating;
+        let m = c.pieces();
+        let h = match pattern {
+            Some(p) => self.regram(w, p),
+            None => self.gram(w),
+        };
         // Gradient (halved): CᵀW r + μ L x.
         let mut g: Vec<Real> = (0..m)
             .map(|j| {
@@ -472,6 +531,7 @@ impl Problem<'_> {
                 }
             }
         }
+        h
     }
 }
 
@@ -569,7 +629,7 @@ pub fn optimise_speeds(
     };
     if aim > 0.0 && mean_diagonal > 0.0 {
         // Step 1: least squares.
-        problem.descend(&mut x, &mut r, &base, MAX_SWEEPS);
+        let pattern = problem.descend(&mut x, &mut r, &base, MAX_SWEEPS, None);
         // Step 2: Lawson's reweighting towards the smallest max deviation.
         let stats_of = |r: &[Real]| {
             let t: Vec<Real> = r.iter().map(|d| d + aim).collect();
@@ -597,7 +657,7 @@ pub fn optimise_speeds(
             if sw > 0.0 {
                 w.iter_mut().for_each(|wi| *wi *= sb / sw);
             }
-            problem.descend(&mut x, &mut r, &w, ROUND_SWEEPS);
+            problem.descend(&mut x, &mut r, &w, ROUND_SWEEPS, Some(&pattern));
             let s = score(&stats_of(&r));
             if s < best.0 {
                 best = (s, x.clone(), r.clone());
