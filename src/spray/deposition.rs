@@ -125,29 +125,23 @@ pub fn deposit(
     let mut thickness = vec![0.0; samples.positions.len()];
     let varying = path.has_varying_speed();
     let move_speed = |i: usize| if varying { path.move_speed(i) } else { speed };
-    // Where the speed changes within a piece: arc lengths and the speed from there on.
-    let (mut starts, mut speeds): (Vec<Real>, Vec<Real>) = (Vec::new(), Vec::new());
-    for_each_piece(path, model, |range, cumulative| {
-        starts.clear();
-        speeds.clear();
-        for (m, k) in (range.start + 1..range.end).enumerate() {
-            let v = move_speed(k);
-            if speeds.last() != Some(&v) {
-                starts.push(cumulative[m]);
-                speeds.push(v);
-            }
-        }
-        deposit_piece(
-            &path.poses[range],
-            cumulative,
-            &starts,
-            samples,
-            grid,
-            model,
-            step_length,
-            &mut |i, segment, v| thickness[i] += v / speeds[segment],
-        );
-    });
+    for_each_segmented_piece(
+        path,
+        model,
+        move_speed,
+        |range, cumulative, starts, speeds| {
+            deposit_piece(
+                &path.poses[range],
+                cumulative,
+                starts,
+                samples,
+                grid,
+                model,
+                step_length,
+                &mut |i, segment, v| thickness[i] += v / speeds[segment],
+            );
+        },
+    );
     Ok(thickness)
 }
 
@@ -214,6 +208,30 @@ pub(super) fn for_each_piece(
         visit(start..end + 1, &cumulative);
         j = end;
     }
+}
+
+/// [`for_each_piece`], each piece cut into segments where `key(k)` changes (`k` the move
+/// arriving at pose `k`): calls `visit(poses, arc lengths, segment starts, segment keys)`,
+/// the starts as arc lengths from the piece's start.
+pub(super) fn for_each_segmented_piece<K: PartialEq + Copy>(
+    path: &ToolPath,
+    model: &SprayModel,
+    key: impl Fn(usize) -> K,
+    mut visit: impl FnMut(std::ops::Range<usize>, &[Real], &[Real], &[K]),
+) {
+    let (mut starts, mut keys): (Vec<Real>, Vec<K>) = (Vec::new(), Vec::new());
+    for_each_piece(path, model, |range, cumulative| {
+        starts.clear();
+        keys.clear();
+        for (m, k) in (range.start + 1..range.end).enumerate() {
+            let this = key(k);
+            if keys.last() != Some(&this) {
+                starts.push(cumulative[m]);
+                keys.push(this);
+            }
+        }
+        visit(range, cumulative, &starts, &keys);
+    });
 }
 
 /// Bounding box of the cone at `gun` along `axis`, truncated at the axial reach.

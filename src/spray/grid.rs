@@ -119,24 +119,9 @@ impl PointGrid {
     /// Calls `visit(id)` for every point in a cell overlapping the box `[lo, hi]` (a superset
     /// of the points inside the box).
     pub fn for_each_in_box(&self, lo: &Vector3, hi: &Vector3, mut visit: impl FnMut(usize)) {
-        for a in 0..3 {
-            if hi[a] < self.origin[a] || lo[a] > self.origin[a] + self.cell * self.dims[a] as Real {
-                return;
-            }
-        }
-        let l = [0, 1, 2].map(|a| self.coord(lo[a], a));
-        let h = [0, 1, 2].map(|a| self.coord(hi[a], a));
-        for k in l[2]..=h[2] {
-            for j in l[1]..=h[1] {
-                let row = (k * self.dims[1] + j) * self.dims[0];
-                let (s, e) = (
-                    self.start[row + l[0]] as usize,
-                    self.start[row + h[0] + 1] as usize,
-                );
-                for &id in &self.ids[s..e] {
-                    visit(id as usize);
-                }
-            }
-        }
+        self.any_in_box(lo, hi, |id| {
+            visit(id);
+            false
+        });
     }
 }

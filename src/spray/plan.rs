@@ -271,7 +271,9 @@ impl Setup<'_> {
         let v0 = self.params.speed;
         let mut speed = v0;
         let (mut path, counts, passes) = self.trajectory(frame, spacing)?;
-        let mut thickness = if self.params.optimise_speed {
+        // Thickness straight from the optimiser when it solved on these very samples.
+        let mut solved = None;
+        if self.params.optimise_speed {
             let solve = sampling.solve.as_deref().unwrap_or(sampling);
             let plan = optimise_speeds(
                 &path,
@@ -287,28 +289,20 @@ impl Setup<'_> {
                 &|s| self.score(s),
             )?;
             path = plan.path;
-            if sampling.solve.is_some() {
-                // The speeds solved on the thinned samples, deposited on all of them.
-                deposit(
-                    &path,
-                    &sampling.samples,
-                    &sampling.grid,
-                    &self.model,
-                    v0,
-                    self.time_step,
-                )?
-            } else {
-                plan.thickness
-            }
-        } else {
-            deposit(
+            solved = sampling.solve.is_none().then_some(plan.thickness);
+        }
+        // Otherwise the path (at its speeds, when solved on thinned samples) deposited on
+        // every sample.
+        let mut thickness = match solved {
+            Some(t) => t,
+            None => deposit(
                 &path,
                 &sampling.samples,
                 &sampling.grid,
                 &self.model,
                 v0,
                 self.time_step,
-            )?
+            )?,
         };
         let (mut quality, empty_interior) =
             evaluate_quality(&thickness, &sampling.samples.weights, &sampling.interior);

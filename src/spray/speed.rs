@@ -35,7 +35,7 @@
 //!         length); `H` costs the sum over samples of (pieces reaching it)², once per
 //!         weighting; each sweep is linear in the non-zeros of `H`.
 
-use super::deposition::{check_time_samples, deposit_piece, for_each_piece, SprayModel};
+use super::deposition::{check_time_samples, deposit_piece, for_each_segmented_piece, SprayModel};
 use super::grid::PointGrid;
 use super::params::SprayError;
 use super::quality::{thickness_stats, ThicknessStats};
@@ -219,27 +219,23 @@ fn coating_matrix(
     // piece; the deposition's own pieces are longer than the speed pieces and are cut where
     // the speed piece changes.
     let mut entries: Vec<(u32, u32, Real)> = Vec::new();
-    let (mut starts, mut owner): (Vec<Real>, Vec<u32>) = (Vec::new(), Vec::new());
-    for_each_piece(path, model, |range, cumulative| {
-        starts.clear();
-        owner.clear();
-        for (m, k) in (range.start + 1..range.end).enumerate() {
-            if owner.last() != Some(&piece_of[k]) {
-                starts.push(cumulative[m]);
-                owner.push(piece_of[k]);
-            }
-        }
-        deposit_piece(
-            &path.poses[range],
-            cumulative,
-            &starts,
-            samples,
-            grid,
-            model,
-            step_length,
-            &mut |i, segment, v| entries.push((owner[segment], i as u32, v / v_ref)),
-        );
-    });
+    for_each_segmented_piece(
+        path,
+        model,
+        |k| piece_of[k],
+        |range, cumulative, starts, owner| {
+            deposit_piece(
+                &path.poses[range],
+                cumulative,
+                starts,
+                samples,
+                grid,
+                model,
+                step_length,
+                &mut |i, segment, v| entries.push((owner[segment], i as u32, v / v_ref)),
+            );
+        },
+    );
     // Counting sort by piece, then the repeats of a sample within a column summed.
     let mut start = vec![0usize; pieces + 1];
     for &(j, _, _) in &entries {
@@ -355,103 +351,80 @@ struct Gram {
 }
 
 impl Problem<'_> {
-    /// `H` for the sample weights `w`.
-    #[allow(clippy::needless_range_loop)] // j indexes the columns, the links and the diagonal
-    fn gram(&self, w: &[Real]) -> Gram {
+    /// Adds column `j` of `H` for the sample weights `w` into the dense `acc`, calling
+    /// `touch(k)` before each entry `k` it adds to.
+    fn accumulate(&self, j: usize, w: &[Real], acc: &mut [Real], mut touch: impl FnMut(usize)) {
         let c = self.coating;
-        let m = c.pieces();
-        let mut start = Vec::with_capacity(m + 1);
-        start.push(0);
-        let (mut pieces, mut values) = (Vec::new(), Vec::new());
-        let mut diagonal = vec![0.0; m];
+        let (rows, vals) = c.column(j);
+        for (&i, &a) in rows.iter().zip(vals) {
+            let wa = w[i as usize] * a;
+            if wa == 0.0 {
+                continue;
+            }
+            let (ks, bs) = self.rows.row(i as usize);
+            for (&k, &b) in ks.iter().zip(bs) {
+                touch(k as usize);
+                acc[k as usize] += wa * b;
+            }
+        }
+        for (linked, k) in [
+            (j > 0 && c.linked_to_next[j - 1], j.wrapping_sub(1)),
+            (c.linked_to_next[j], j + 1),
+        ] {
+            if linked {
+                touch(j);
+                acc[j] += self.mu;
+                touch(k);
+                acc[k] -= self.mu;
+            }
+        }
+    }
+
+    /// `H` for the sample weights `w`.
+    fn gram(&self, w: &[Real]) -> Gram {
+        let m = self.coating.pieces();
+        let mut pattern = Gram {
+            start: Vec::with_capacity(m + 1),
+            pieces: Vec::new(),
+            values: Vec::new(),
+            diagonal: Vec::new(),
+        };
+        pattern.start.push(0);
         let mut acc = vec![0.0; m];
         let mut seen = vec![false; m];
-        let mut touched: Vec<u32> = Vec::new();
-        let bump =
-            |k: usize, v: Real, acc: &mut [Real], seen: &mut [bool], touched: &mut Vec<u32>| {
+        for j in 0..m {
+            let from = pattern.pieces.len();
+            self.accumulate(j, w, &mut acc, |k| {
                 if !seen[k] {
                     seen[k] = true;
-                    touched.push(k as u32);
+                    pattern.pieces.push(k as u32);
                 }
-                acc[k] += v;
-            };
-        for j in 0..m {
-            let (rows, vals) = c.column(j);
-            for (&i, &a) in rows.iter().zip(vals) {
-                let wa = w[i as usize] * a;
-                if wa == 0.0 {
-                    continue;
-                }
-                let (ks, bs) = self.rows.row(i as usize);
-                for (&k, &b) in ks.iter().zip(bs) {
-                    bump(k as usize, wa * b, &mut acc, &mut seen, &mut touched);
-                }
+            });
+            for &k in &pattern.pieces[from..] {
+                seen[k as usize] = false;
+                acc[k as usize] = 0.0;
             }
-            if j > 0 && c.linked_to_next[j - 1] {
-                bump(j, self.mu, &mut acc, &mut seen, &mut touched);
-                bump(j - 1, -self.mu, &mut acc, &mut seen, &mut touched);
-            }
-            if c.linked_to_next[j] {
-                bump(j, self.mu, &mut acc, &mut seen, &mut touched);
-                bump(j + 1, -self.mu, &mut acc, &mut seen, &mut touched);
-            }
-            for &k in &touched {
-                let k = k as usize;
-                if k == j {
-                    diagonal[j] = acc[k];
-                }
-                pieces.push(k as u32);
-                values.push(acc[k]);
-                acc[k] = 0.0;
-                seen[k] = false;
-            }
-            touched.clear();
-            start.push(pieces.len());
+            pattern.start.push(pattern.pieces.len());
         }
-        Gram {
-            start,
-            pieces,
-            values,
-            diagonal,
-        }
+        self.regram(w, &pattern)
     }
 
     /// `H` for the sample weights `w` on the sparsity of `pattern`, an `H` built for weights
     /// that are zero on the same samples (or on fewer): no bookkeeping of which entries a
     /// column touches.
-    #[allow(clippy::needless_range_loop)] // j indexes the columns, the links and the diagonal
     fn regram(&self, w: &[Real], pattern: &Gram) -> Gram {
-        let c = self.coating;
-        let m = c.pieces();
-        let mut values = vec![0.0; pattern.values.len()];
+        let m = self.coating.pieces();
+        let mut values = vec![0.0; pattern.pieces.len()];
         let mut diagonal = vec![0.0; m];
         let mut acc = vec![0.0; m];
-        for j in 0..m {
-            let (rows, vals) = c.column(j);
-            for (&i, &a) in rows.iter().zip(vals) {
-                let wa = w[i as usize] * a;
-                if wa == 0.0 {
-                    continue;
-                }
-                let (ks, bs) = self.rows.row(i as usize);
-                for (&k, &b) in ks.iter().zip(bs) {
-                    acc[k as usize] += wa * b;
-                }
-            }
-            if j > 0 && c.linked_to_next[j - 1] {
-                acc[j] += self.mu;
-                acc[j - 1] -= self.mu;
-            }
-            if c.linked_to_next[j] {
-                acc[j] += self.mu;
-                acc[j + 1] -= self.mu;
-            }
+        for (j, d) in diagonal.iter_mut().enumerate() {
+            self.accumulate(j, w, &mut acc, |_| {});
             let r = pattern.start[j]..pattern.start[j + 1];
             for (v, &k) in values[r.clone()].iter_mut().zip(&pattern.pieces[r]) {
                 let k = k as usize;
                 *v = acc[k];
                 if k == j {
-                    diagonal[j] = acc[k];
+                    *d = acc[k];
                 }
                 acc[k] = 0.0;
             }
