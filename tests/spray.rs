@@ -660,6 +660,44 @@ fn optimised_speeds_even_out_a_curved_panel_within_the_limits() {
     assert_near!(after.cycle_time, time, 1e-9 * time);
 }
 
+/// A plate meshed finer than the resolution: its vertices are the samples, the speed
+/// optimiser solves on them thinned to the resolution, and the plan's thickness is the
+/// deposition of the path at its speeds on every sample; the interior is the rectangle
+/// `edgeExclusion` inside the edges.
+#[test]
+fn a_plate_finer_than_the_resolution_keeps_its_vertices_and_runs_as_deposited() {
+    let (w, d) = (300.0, 250.0);
+    let m = plate(w, d, 60, 50);
+    let mut p = params(0.5 * R);
+    p.resolution = Some(R / 5.0);
+    p.optimise_speed = true;
+    p.min_speed = Some(50.0);
+    p.max_speed = Some(200.0);
+    let before = {
+        let mut q = p;
+        q.optimise_speed = false;
+        plan(&m, &q).unwrap()
+    };
+    let after = plan(&m, &p).unwrap();
+    // Edges of 5 mm (diagonals 7.1 mm) against a resolution of 10: no subdivision.
+    assert_eq!(after.samples.positions.len(), 61 * 51);
+    for (x, &inside) in after.samples.positions.iter().zip(&after.interior) {
+        let margin = x.x.min(w - x.x).min(x.y).min(d - x.y);
+        if (margin - R).abs() > 1e-6 {
+            assert_eq!(inside, margin > R, "at {x:?}");
+        }
+    }
+    check_speeds(&after, 50.0, 200.0);
+    assert!(after.speed_optimised && !after.path.speeds.is_empty());
+    check_thickness_matches_the_path(&m, &after, &p);
+    assert!(
+        after.quality.interior.error <= before.quality.interior.error + 0.01,
+        "{} against {}",
+        after.quality.interior.error,
+        before.quality.interior.error
+    );
+}
+
 /// A plate sprayed with one pass slowed to half speed: the optimiser, started from those
 /// speeds, brings them back to (nearly) the uniform speed that gives a flat coating.
 #[test]
