@@ -86,6 +86,11 @@ impl PointGrid {
         (k * self.dims[1] + j) * self.dims[0] + i
     }
 
+    /// The point ids in cell order (points of one cell together).
+    pub fn order(&self) -> &[u32] {
+        &self.ids
+    }
+
     /// Whether `found(id)` holds for some point in a cell overlapping the box `[lo, hi]`;
     /// stops at the first.
     pub fn any_in_box(

@@ -178,6 +178,25 @@ pub fn sample_faces(
 }
 
 impl EvaluationSamples {
+    /// The samples in the order `order` (a permutation of their ids), display triangles
+    /// renumbered: sample `k` of the result is sample `order[k]` of `self`.
+    pub fn permuted(&self, order: &[u32]) -> EvaluationSamples {
+        let mut new_id = vec![0u32; order.len()];
+        for (k, &i) in order.iter().enumerate() {
+            new_id[i as usize] = k as u32;
+        }
+        EvaluationSamples {
+            positions: order.iter().map(|&i| self.positions[i as usize]).collect(),
+            normals: order.iter().map(|&i| self.normals[i as usize]).collect(),
+            weights: order.iter().map(|&i| self.weights[i as usize]).collect(),
+            triangles: self
+                .triangles
+                .iter()
+                .map(|t| t.map(|i| new_id[i as usize]))
+                .collect(),
+        }
+    }
+
     /// The samples thinned to the first one in each cube of side `cell` (no paper; for a
     /// coarse screening on a mesh finer than the resolution): it keeps its position and
     /// normal and carries the weight of its whole cube; `keep_apart[i]` samples are thinned
