@@ -144,6 +144,17 @@ fn main() {
             ));
         }
     }
+    // The gun switched off inside a pass (a gun-off move between gun-on moves of one pass).
+    let mut toggles = 0;
+    for k in 2..poses.len() {
+        if poses[k].pass == poses[k - 1].pass
+            && poses[k - 1].kind.process_on()
+            && !poses[k].kind.process_on()
+        {
+            toggles += 1;
+        }
+    }
+    println!("  gun switched off inside passes: {toggles} times");
     println!(
         "  gun-on reversals: {}; first: {:?}",
         reversals.len(),
@@ -181,5 +192,44 @@ fn main() {
     }
     for m in &plan.messages {
         println!("  • {m}");
+    }
+    // DUMP=PREFIX writes PREFIX.samples.csv and PREFIX.poses.csv (mm, µm, mm/s) for study.
+    if let Ok(prefix) = std::env::var("DUMP") {
+        use std::fmt::Write as _;
+        let mut out = String::from("x,y,z,nx,ny,nz,um,interior,weight\n");
+        for (i, p) in plan.samples.positions.iter().enumerate() {
+            let n = plan.samples.normals[i];
+            let _ = writeln!(
+                out,
+                "{:.1},{:.1},{:.1},{:.4},{:.4},{:.4},{:.3},{},{:.1}",
+                p.x * mm_per_unit,
+                p.y * mm_per_unit,
+                p.z * mm_per_unit,
+                n.x,
+                n.y,
+                n.z,
+                plan.thickness[i] * um,
+                u8::from(plan.interior[i]),
+                plan.samples.weights[i] * mm_per_unit * mm_per_unit
+            );
+        }
+        std::fs::write(format!("{prefix}.samples.csv"), out).expect("writable dump");
+        let mut out = String::from("x,y,z,ax,ay,az,kind,pass,speed\n");
+        for (k, p) in plan.path.poses.iter().enumerate() {
+            let _ = writeln!(
+                out,
+                "{:.1},{:.1},{:.1},{:.4},{:.4},{:.4},{},{},{:.1}",
+                p.position.x * mm_per_unit,
+                p.position.y * mm_per_unit,
+                p.position.z * mm_per_unit,
+                p.axis.x,
+                p.axis.y,
+                p.axis.z,
+                p.kind.code(),
+                p.pass,
+                plan.path.move_speed(k.max(1)) * mm_per_unit
+            );
+        }
+        std::fs::write(format!("{prefix}.poses.csv"), out).expect("writable dump");
     }
 }

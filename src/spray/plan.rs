@@ -28,7 +28,7 @@ use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame};
 use super::samples::{sample_faces, EvaluationSamples};
 use super::search::{ripple, search_spacing, Fidelity, Iteration, Limits, FALLBACK_MARGIN};
 use super::speed::{optimise_speeds, SpeedLimits};
-use super::trajectory::{build_trajectory, TrajectoryCounts};
+use super::trajectory::{build_trajectory, TrajectoryCounts, TURN_ON_RADIUS_RATIO};
 use crate::math::{angle_between, Compact, Point3, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
 use crate::toolpath::ToolPath;
@@ -223,6 +223,7 @@ impl Setup<'_> {
             self.params.transition_angle,
             self.extension,
             self.params.speed,
+            TURN_ON_RADIUS_RATIO * self.model.radius,
         );
         Ok((path, counts, passes.len()))
     }
