@@ -34,12 +34,16 @@
 //!     Passes without a concave edge skip the removal (their offset only turns away).
 //!   - A concave edge whose offsets meet within both faces is resolved before the loop
 //!     removal, in space (no paper): each offset line reaches the other face's offset plane
-//!     (`h` from both faces) at `a + s·t_i` and `b + u·t_j`, `s = h(1 − cos β)/(n_j·t_i)`,
-//!     `u = h(1 − cos β)/(n_i·t_j)`; the pass turns there, with a step along the edge
-//!     between the two points where the normals leave the scan plane. (In the projection the
-//!     two offsets then lie at different distances from the pass and need not cross within
-//!     the faces, so the plain join `a → b` stepped back by `2h·sin(β/2)`: about 120 times
-//!     on the BWB's upper skin.)
+//!     (`h` from both faces) at `x1 = a + s·t_i` and `x2 = b + u·t_j`,
+//!     `s = h(1 − cos β)/(n_j·t_i)`, `u = h(1 − cos β)/(n_i·t_j)`, two points of the line
+//!     where the offset planes meet; the pass turns at their midpoint, at `h` from both
+//!     faces, reached and left within the two offset planes. (Where the normals leave the
+//!     scan plane, the two offsets lie at different distances from the pass in the
+//!     projection and need not cross within the faces, so the plain join `a → b` stepped
+//!     back by `2h·sin(β/2)`: about 120 times on the BWB's upper skin.) Only where `x1` and
+//!     `x2` are no farther apart than `a` and `b`: they part by about `2h·tan(β/2)·cot ψ`
+//!     for a pass crossing the edge at `ψ`, and a pass nearly along a concave edge would
+//!     swerve towards it.
 //!   - An uncut cap is replaced by the pass extension (gun on, `extension` along the end
 //!     segment); a cap cut by a crossing stays (gun on, radial axis, poses of kind `Arc`):
 //!     the pass then ends by turning around its end point at the standoff. A cap may be cut
@@ -420,18 +424,24 @@ fn raw_offset(
         if beta >= SMALL_TURN_RAD && nj.dot(&t[j]) < 0.0 {
             counts.trimmed += 1;
             // Concave edge. Each offset line meets the other face's offset plane (at `h`
-            // from both faces) at `a + s·t_i` and `b + u·t_j`: where both points lie on
-            // their segments, the pass turns there (one point when the normals lie in the
-            // scan plane, else a step along the edge between them). Otherwise `a` is joined
+            // from both faces) at `x1 = a + s·t_i` and `x2 = b + u·t_j`, two points of the
+            // line where the offset planes meet (one point when the normals lie in the scan
+            // plane). Where both lie on their segments and no farther apart than `a` and `b`
+            // (the pass crosses the edge at 45° or more), the pass turns at their midpoint,
+            // reached and left within the two offset planes. Otherwise `a` is joined
             // straight to `b` and the loop removal cuts it.
             let dip = standoff * (1.0 - ni.dot(&nj));
             let (ci, cj) = (nj.dot(&t[j]), ni.dot(&t[j + 1]));
             let back = raw.last().map_or(0.0, |r| (a - r.0).dot(&t[j]));
             let ahead = (pass.points[j + 2] - edge).dot(&t[j + 1]);
-            if cj > 0.0 && -dip / ci <= back && dip / cj <= ahead {
-                let axis = -blend(&ni, &nj);
-                raw.push((a + t[j] * (dip / ci), axis, PoseKind::Pass));
-                raw.push((b + t[j + 1] * (dip / cj), axis, PoseKind::Pass));
+            let (x1, x2) = (a + t[j] * (dip / ci), b + t[j + 1] * (dip / cj));
+            if cj > 0.0
+                && -dip / ci <= back
+                && dip / cj <= ahead
+                && (x2 - x1).norm() <= (b - a).norm()
+            {
+                let mid = Point3::from((x1.coords + x2.coords) * 0.5);
+                raw.push((mid, -blend(&ni, &nj), PoseKind::Pass));
             } else {
                 raw.push((a, -ni, PoseKind::Pass));
                 raw.push((b, -nj, PoseKind::Pass));
