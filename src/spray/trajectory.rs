@@ -744,15 +744,18 @@ pub fn build_trajectory(
             });
             // A concave crossing a hair behind the previous pose (common on faceted skins)
             // makes the gun step back and forth, which a controller runs as a stop (a paint
-            // dwell): the pose at the tip of such a short backtrack is dropped. Each round
+            // dwell): the pose at the tip of such a short backtrack is dropped. The move
+            // leaving the tip may be a turn run gun off, when it is the short leg. Each round
             // removes a pose, so the loop ends.
             while poses.len() >= begin + 3 {
                 let n = poses.len();
                 let (p0, p1, p2) = (&poses[n - 3], &poses[n - 2], &poses[n - 1]);
                 let (a, b) = (p1.position - p0.position, p2.position - p1.position);
-                let short = a.norm().min(b.norm()) <= BACKTRACK_RATIO * standoff;
+                let limit = BACKTRACK_RATIO * standoff;
+                let short = a.norm().min(b.norm()) <= limit;
                 let back = a.dot(&b) < REVERSAL_COS * a.norm() * b.norm();
-                if !(p1.kind.process_on() && p2.kind.process_on() && short && back) {
+                let leaving = p2.kind.process_on() || b.norm() <= limit;
+                if !(p1.kind.process_on() && leaving && short && back) {
                     break;
                 }
                 let chord = p2.position - p0.position;
