@@ -3,7 +3,10 @@
 //! and prints what the Spray tool would show:
 //! `cargo run --release --example spray_study -- FILE.stl MM_PER_UNIT [PATCH] [off] [best]`.
 //! `PATCH` is the patch id of the paper-default segmentation (0 = largest); `off` turns the
-//! speed optimisation off; `best` tries the other pass directions.
+//! speed optimisation off; `best` tries the other pass directions. Environment: `SAMPLES`
+//! (evaluation sample budget, default 100,000 as the page), `SPACING` (mm: plan at that
+//! spacing, no search), `RASTER` (degrees: turn the pass direction), `DUMP` (a path prefix:
+//! write the samples and poses as CSV).
 
 use skinpath::mesh::{orient_consistently, read_stl, FaceAdjacency, FaceGeometry};
 use skinpath::segment::{segment, SegmentParams};
@@ -62,6 +65,13 @@ fn main() {
         ..SprayParams::default()
     };
     let mut p = p;
+    // RASTER=DEG turns the pass direction (as the page's typed angle).
+    if let Some(a) = std::env::var("RASTER")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+    {
+        p.raster_angle = a.to_radians();
+    }
     if let Some(b) = std::env::var("SPACING")
         .ok()
         .and_then(|v| v.parse::<f64>().ok())
@@ -121,7 +131,8 @@ fn main() {
         plan.path_length * mm_per_unit / 1000.0,
         plan.raster_angle.to_degrees()
     );
-    // Gun-on reversals (consecutive moves turning by more than 150°): a robot stops there.
+    // Gun-on reversals inside passes (consecutive moves turning by more than 150°, the first
+    // with the gun on): a robot stops there, spraying.
     let poses = &plan.path.poses;
     let mut reversals = Vec::new();
     for k in 1..poses.len().saturating_sub(1) {
@@ -130,7 +141,7 @@ fn main() {
             poses[k + 1].position - poses[k].position,
         );
         if poses[k].kind.process_on()
-            && poses[k + 1].kind.process_on()
+            && poses[k + 1].pass == poses[k].pass
             && a.norm() > 0.0
             && b.norm() > 0.0
             && a.dot(&b) < (150f64).to_radians().cos() * a.norm() * b.norm()

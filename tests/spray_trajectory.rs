@@ -773,3 +773,65 @@ fn a_concave_edge_with_normals_across_the_scan_plane_turns_without_stepping_back
         }
     }
 }
+
+#[test]
+fn a_concave_step_before_a_turn_run_gun_off_loses_its_backtrack() {
+    // A sliver face (5 mm) between two steep faces (normals 42° and 43.6° from the scan
+    // plane): a concave edge of 9° into it, too short for the offsets to meet on it, then a
+    // convex edge out of it whose turn (≈ 40 mm) runs gun off. The join of the concave edge
+    // steps back; its tip is dropped, as when the move leaving it had the gun on.
+    let (a1, a2, turn) = (42f64.to_radians(), 43.6f64.to_radians(), 14f64.to_radians());
+    let dir = |theta: f64| Vector3::new(0.0, theta.sin(), theta.cos());
+    let normal =
+        |a: f64, theta: f64| Vector3::new(-a.cos(), a.sin() * theta.cos(), -a.sin() * theta.sin());
+    let (t1, t2) = (dir(0.0), dir(turn));
+    let (n1, n2) = (normal(a1, 0.0), normal(a2, turn));
+    assert!(
+        n2.dot(&t1) < 0.0 && n1.dot(&t2) > 0.0,
+        "concave, then convex"
+    );
+    let p1 = Point3::new(0.0, 0.0, 400.0);
+    let p2 = p1 + t2 * 5.0;
+    let pass = ScanPass {
+        plane: 0,
+        points: vec![Point3::origin(), p1, p2, p2 + t1 * 400.0],
+        faces: vec![0, 1, 2],
+    };
+    let radius = H * (params().cone_angle / 2.0).tan();
+    let (path, counts) = build_trajectory(
+        &[pass],
+        &[n1, n2, n1],
+        H,
+        0.35,
+        0.0,
+        400.0,
+        TURN_ON_RADIUS_RATIO * radius,
+    );
+    assert_eq!(
+        (counts.trimmed, counts.straight, counts.turns_off),
+        (1, 1, 1)
+    );
+    // The robot stops wherever the path turns back; after a gun-on move, it would stop there
+    // spraying.
+    let cos_limit = (150f64).to_radians().cos();
+    for w in path.poses.windows(3) {
+        let (a, b) = (w[1].position - w[0].position, w[2].position - w[1].position);
+        assert!(
+            !(w[1].kind.process_on() && a.dot(&b) < cos_limit * a.norm() * b.norm()),
+            "the gun turns back at {} with the gun on",
+            w[1].position
+        );
+    }
+    // The first face is sprayed up to its edge (the offset of its end, 400 mm on).
+    assert!(path
+        .poses
+        .iter()
+        .any(|q| q.kind.process_on() && (q.position - (p1 + n1 * H)).norm() < 1e-6));
+    // No gun-on move goes back along the pass.
+    for w in path.poses.windows(2) {
+        if w[1].kind.process_on() {
+            let step = w[1].position - w[0].position;
+            assert!(step.dot(&t1) > -1e-9, "a step back by {step}");
+        }
+    }
+}

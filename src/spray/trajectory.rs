@@ -726,6 +726,7 @@ pub fn build_trajectory(
         nodes.extend(tail);
         // Travel: the direction of the arriving move (the first pose: of the leaving one).
         let begin = poses.len();
+        let forward = pass.points[m] - pass.points[0];
         for (i, &(position, axis, kind)) in nodes.iter().enumerate() {
             if poses.len() > begin && (position - poses[poses.len() - 1].position).norm() <= tol {
                 continue;
@@ -744,9 +745,11 @@ pub fn build_trajectory(
             });
             // A concave crossing a hair behind the previous pose (common on faceted skins)
             // makes the gun step back and forth, which a controller runs as a stop (a paint
-            // dwell): the pose at the tip of such a short backtrack is dropped. The move
-            // leaving the tip may be a turn run gun off, when it is the short leg. Each round
-            // removes a pose, so the loop ends.
+            // dwell): the pose at the tip of such a short backtrack is dropped. Where the
+            // move leaving the tip is a short turn run gun off, the tip is dropped only if
+            // the gun-on move into it runs back along the pass (no coating is lost that the
+            // pass had not just laid), else the gun-off pose goes; a gun-off tip between
+            // gun-off moves goes too. Each round removes a pose, so the loop ends.
             while poses.len() >= begin + 3 {
                 let n = poses.len();
                 let (p0, p1, p2) = (&poses[n - 3], &poses[n - 2], &poses[n - 1]);
@@ -754,14 +757,26 @@ pub fn build_trajectory(
                 let limit = BACKTRACK_RATIO * standoff;
                 let short = a.norm().min(b.norm()) <= limit;
                 let back = a.dot(&b) < REVERSAL_COS * a.norm() * b.norm();
-                let leaving = p2.kind.process_on() || b.norm() <= limit;
-                if !(p1.kind.process_on() && leaving && short && back) {
+                if !(short && back) {
                     break;
                 }
-                let chord = p2.position - p0.position;
-                let axis = p2.axis;
-                poses.remove(n - 2);
-                poses[n - 2].travel = perpendicular(chord, &axis);
+                let drop = match (p1.kind.process_on(), p2.kind.process_on()) {
+                    (true, true) | (false, false) => n - 2,
+                    (true, false) if b.norm() <= limit => {
+                        if a.dot(&forward) < 0.0 {
+                            n - 2
+                        } else {
+                            n - 1
+                        }
+                    }
+                    _ => break,
+                };
+                if drop == n - 2 {
+                    let chord = p2.position - p0.position;
+                    let axis = p2.axis;
+                    poses[n - 1].travel = perpendicular(chord, &axis);
+                }
+                poses.remove(drop);
                 counts.backtracks += 1;
             }
         }
