@@ -418,7 +418,7 @@ pub fn plan_spray(
     let coarse = setup.coarse.as_ref().filter(|_| params.has_limits());
     let mut messages = Vec::new();
     let mut kept: Option<(Real, Evaluation)> = None;
-    let (spacing, limits_met, iterations) = match (limits, params.quality) {
+    let (spacing, iterations) = match (limits, params.quality) {
         (Some(limits), Some(q)) => {
             let width = frame.arc[frame.arc.len() - 1];
             let hi = q.max_spacing.unwrap_or(2.0 * resolved.radius).min(width);
@@ -449,9 +449,9 @@ pub fn plan_spray(
                 },
                 &mut |f| progress("spray search", f),
             )?;
-            (choice.spacing, choice.met, choice.iterations)
+            (choice.spacing, choice.iterations)
         }
-        _ => (params.spacing, true, Vec::new()),
+        _ => (params.spacing, Vec::new()),
     };
     progress("spray plan", 0.0);
     let chosen = match kept {
@@ -507,7 +507,9 @@ pub fn plan_spray(
         empty_interior,
         speed,
     } = chosen;
-    let limits_met = limits.is_none_or(|l| l.met(&quality.interior)) && limits_met;
+    // The figures of the plan delivered decide: with `bestDirection`, another direction may
+    // meet the limits at a spacing where the searched one did not.
+    let limits_met = limits.is_none_or(|l| l.met(&quality.interior));
     let iterations = if iterations.is_empty() {
         vec![Iteration {
             spacing,
