@@ -3,7 +3,10 @@
 //! and prints what the Spray tool would show:
 //! `cargo run --release --example spray_study -- FILE.stl MM_PER_UNIT [PATCH] [off] [best]`.
 //! `PATCH` is the patch id of the paper-default segmentation (0 = largest); `off` turns the
-//! speed optimisation off; `best` tries the other pass directions.
+//! speed optimisation off; `best` tries the other pass directions. Environment: `SAMPLES`
+//! (evaluation sample budget, default 100,000 as the page), `SPACING` (mm: plan at that
+//! spacing, no search), `RASTER` (degrees: turn the pass direction), `DUMP` (a path prefix:
+//! write the samples and poses as CSV).
 
 use skinpath::mesh::{orient_consistently, read_stl, FaceAdjacency, FaceGeometry};
 use skinpath::segment::{segment, SegmentParams};
@@ -62,6 +65,13 @@ fn main() {
         ..SprayParams::default()
     };
     let mut p = p;
+    // RASTER=DEG turns the pass direction (as the page's typed angle).
+    if let Some(a) = std::env::var("RASTER")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+    {
+        p.raster_angle = a.to_radians();
+    }
     if let Some(b) = std::env::var("SPACING")
         .ok()
         .and_then(|v| v.parse::<f64>().ok())
@@ -121,7 +131,8 @@ fn main() {
         plan.path_length * mm_per_unit / 1000.0,
         plan.raster_angle.to_degrees()
     );
-    // Gun-on reversals (consecutive moves turning by more than 150°): a robot stops there.
+    // Gun-on reversals inside passes (consecutive moves turning by more than 150°, the first
+    // with the gun on): a robot stops there, spraying.
     let poses = &plan.path.poses;
     let mut reversals = Vec::new();
     for k in 1..poses.len().saturating_sub(1) {
@@ -130,7 +141,7 @@ fn main() {
             poses[k + 1].position - poses[k].position,
         );
         if poses[k].kind.process_on()
-            && poses[k + 1].kind.process_on()
+            && poses[k + 1].pass == poses[k].pass
             && a.norm() > 0.0
             && b.norm() > 0.0
             && a.dot(&b) < (150f64).to_radians().cos() * a.norm() * b.norm()
@@ -144,6 +155,17 @@ fn main() {
             ));
         }
     }
+    // The gun switched off inside a pass (a gun-off move between gun-on moves of one pass).
+    let mut toggles = 0;
+    for k in 2..poses.len() {
+        if poses[k].pass == poses[k - 1].pass
+            && poses[k - 1].kind.process_on()
+            && !poses[k].kind.process_on()
+        {
+            toggles += 1;
+        }
+    }
+    println!("  gun switched off inside passes: {toggles} times");
     println!(
         "  gun-on reversals: {}; first: {:?}",
         reversals.len(),
@@ -181,5 +203,44 @@ fn main() {
     }
     for m in &plan.messages {
         println!("  • {m}");
+    }
+    // DUMP=PREFIX writes PREFIX.samples.csv and PREFIX.poses.csv (mm, µm, mm/s) for study.
+    if let Ok(prefix) = std::env::var("DUMP") {
+        use std::fmt::Write as _;
+        let mut out = String::from("x,y,z,nx,ny,nz,um,interior,weight\n");
+        for (i, p) in plan.samples.positions.iter().enumerate() {
+            let n = plan.samples.normals[i];
+            let _ = writeln!(
+                out,
+                "{:.1},{:.1},{:.1},{:.4},{:.4},{:.4},{:.3},{},{:.1}",
+                p.x * mm_per_unit,
+                p.y * mm_per_unit,
+                p.z * mm_per_unit,
+                n.x,
+                n.y,
+                n.z,
+                plan.thickness[i] * um,
+                u8::from(plan.interior[i]),
+                plan.samples.weights[i] * mm_per_unit * mm_per_unit
+            );
+        }
+        std::fs::write(format!("{prefix}.samples.csv"), out).expect("writable dump");
+        let mut out = String::from("x,y,z,ax,ay,az,kind,pass,speed\n");
+        for (k, p) in plan.path.poses.iter().enumerate() {
+            let _ = writeln!(
+                out,
+                "{:.1},{:.1},{:.1},{:.4},{:.4},{:.4},{},{},{:.1}",
+                p.position.x * mm_per_unit,
+                p.position.y * mm_per_unit,
+                p.position.z * mm_per_unit,
+                p.axis.x,
+                p.axis.y,
+                p.axis.z,
+                p.kind.code(),
+                p.pass,
+                plan.path.move_speed(k.max(1)) * mm_per_unit
+            );
+        }
+        std::fs::write(format!("{prefix}.poses.csv"), out).expect("writable dump");
     }
 }

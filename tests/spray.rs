@@ -293,11 +293,14 @@ fn a_sharp_convex_fold_gets_arcs_of_radius_h_with_radial_axes() {
     let plan = plan(&m, &p).unwrap();
     assert_eq!(plan.counts.arcs, plan.pass_count);
     assert_eq!(plan.counts.straight + plan.counts.trimmed, 0);
+    // Each arc is far longer than R/10: it keeps its poses and runs with the gun off.
+    assert_eq!(plan.counts.turns_off, plan.pass_count);
     let arcs: Vec<_> = plan
         .path
         .poses
-        .iter()
-        .filter(|q| q.kind == PoseKind::Arc)
+        .windows(2)
+        .filter(|w| w[1].kind == PoseKind::Link && w[0].pass == w[1].pass)
+        .map(|w| w[1])
         .collect();
     assert!(arcs.len() >= 2 * plan.pass_count);
     for q in arcs {
@@ -319,11 +322,17 @@ fn a_gentle_convex_fold_gets_straight_transitions_perpendicular_to_the_axis() {
     assert_eq!(plan.counts.straight, plan.pass_count);
     assert_eq!(plan.counts.arcs, 0);
     // Each transition runs a (one face's normal) → the chord's middle (bisector axis,
-    // perpendicular to the chord) → b (the other face's normal): no turn on the spot.
+    // perpendicular to the chord) → b (the other face's normal): no turn on the spot. Its
+    // chord, 2h·sin 5° = 43.6 mm, is longer than R/10: it runs with the gun off.
+    assert_eq!(plan.counts.turns_off, plan.pass_count);
     let poses = &plan.path.poses;
     let mut transitions = 0;
     for w in poses.windows(3) {
-        if w[1].kind == PoseKind::StraightTransition && w[2].kind == PoseKind::StraightTransition {
+        if w[0].kind == PoseKind::Pass
+            && w[1].kind == PoseKind::Link
+            && w[2].kind == PoseKind::Link
+            && w[0].pass == w[2].pass
+        {
             let chord = w[2].position - w[0].position;
             assert!(chord.norm() > 1.0);
             let middle = (w[0].position.coords + w[2].position.coords) * 0.5;

@@ -12,8 +12,9 @@ use common::{binary_stl, import, Tri};
 use skinpath::math::{Point3, Vector3};
 use skinpath::mesh::ImportedMesh;
 use skinpath::spray::{
-    build_trajectory, deposit, order_zigzag, patch_frame, plan_spray, scan_passes, PointGrid,
-    SprayModel, SprayParams, TrajectoryCounts, ARC_STEP_RAD,
+    build_trajectory, deposit, order_zigzag, patch_frame, plan_spray, sample_faces, scan_passes,
+    PointGrid, ScanPass, SprayModel, SprayParams, TrajectoryCounts, ARC_STEP_RAD,
+    TURN_ON_RADIUS_RATIO,
 };
 use skinpath::toolpath::{Pose, PoseKind, ToolPath};
 use std::f64::consts::PI;
@@ -83,6 +84,16 @@ fn params() -> SprayParams {
 
 /// The trajectory over every face, passes along the profile (planes y = const).
 fn trajectory(m: &ImportedMesh, p: &SprayParams, spacing: f64) -> (ToolPath, TrajectoryCounts) {
+    trajectory_turning(m, p, spacing, f64::INFINITY)
+}
+
+/// As [`trajectory`], convex turns longer than `max_turn_on` run with the gun off.
+fn trajectory_turning(
+    m: &ImportedMesh,
+    p: &SprayParams,
+    spacing: f64,
+    max_turn_on: f64,
+) -> (ToolPath, TrajectoryCounts) {
     let faces: Vec<u32> = (0..m.mesh.triangle_count() as u32).collect();
     let frame = patch_frame(&m.mesh, &m.geometry, &faces, Some(Vector3::x()), 0.0).unwrap();
     assert!(frame.across.y.abs() > 0.999, "scan planes y = const");
@@ -96,6 +107,7 @@ fn trajectory(m: &ImportedMesh, p: &SprayParams, spacing: f64) -> (ToolPath, Tra
         p.transition_angle,
         radius,
         p.speed,
+        max_turn_on,
     )
 }
 
@@ -552,6 +564,8 @@ fn spreading_the_turn_over_the_transition_keeps_the_predicted_thickness() {
         };
         let plan = plan_all(&m, &p);
         assert!(plan.counts.straight > 50, "{}", plan.counts.straight);
+        // Facets turn by 0.76°: a 3.3 mm turn, shorter than R/10, keeps the gun on.
+        assert_eq!(plan.counts.turns_off, 0);
         assert_eq!(turns_on_the_spot(&plan.path, 1e-6 * H), 0);
         let old = with_turns_on_the_spot(&plan.path);
         assert!(turns_on_the_spot(&old, 1e-6 * H) >= 2 * plan.counts.straight);
@@ -619,4 +633,205 @@ fn direct(
         }
     }
     out
+}
+
+/// Thickness along a roof of turn `beta` (ridge on the y axis, passes across it every 40 mm at
+/// constant speed): the mean over samples within 5 mm of the ridge and over samples on the
+/// flat parts (200–400 mm from it), both at least 2R from the roof's ends along y.
+fn ridge_and_flat(beta: f64, max_turn_on: f64) -> (f64, f64, TrajectoryCounts) {
+    let (s, c) = ((beta / 2.0).sin(), (beta / 2.0).cos());
+    let m = swept(
+        &polyline(
+            &[
+                [-600.0 * c, -600.0 * s],
+                [0.0, 0.0],
+                [600.0 * c, -600.0 * s],
+            ],
+            50.0,
+        ),
+        800.0,
+        16,
+    );
+    let p = params();
+    let (path, counts) = trajectory_turning(&m, &p, 40.0, max_turn_on);
+    let radius = H * (p.cone_angle / 2.0).tan();
+    let model = SprayModel {
+        radius,
+        peak_rate: 2.0 * p.efficiency * p.flow_rate / (PI * radius * radius),
+        standoff: H,
+    };
+    let faces: Vec<u32> = (0..m.mesh.triangle_count() as u32).collect();
+    let samples = sample_faces(&m.mesh, &m.geometry, &faces, 5.0).unwrap();
+    let grid = PointGrid::new(&samples.positions, radius / 2.0);
+    let t = deposit(
+        &path,
+        &samples,
+        &grid,
+        &model,
+        p.speed,
+        radius / 20.0 / p.speed,
+    )
+    .unwrap();
+    let (mut ridge, mut flat) = ((0.0, 0), (0.0, 0));
+    for (i, q) in samples.positions.iter().enumerate() {
+        if q.y < 2.0 * radius || q.y > 800.0 - 2.0 * radius {
+            continue;
+        }
+        let along = q.x.abs() / c;
+        if along <= 5.0 {
+            ridge = (ridge.0 + t[i], ridge.1 + 1);
+        } else if (200.0..=400.0).contains(&along) {
+            flat = (flat.0 + t[i], flat.1 + 1);
+        }
+    }
+    assert!(ridge.1 > 20 && flat.1 > 100);
+    (ridge.0 / ridge.1 as f64, flat.0 / flat.1 as f64, counts)
+}
+
+#[test]
+fn a_convex_turn_run_gun_off_coats_its_edge_like_a_flat_part() {
+    // With the gun on (the patent), the ridge of a roof gets the spot the gun's axis leaves
+    // on it while turning: about 8h·sin β / (3πR) of the flat coating more (the turn's
+    // coating, ∫ A·cos φ·h dφ / v = A·h·sin β / v per pass, summed over passes against the
+    // mass balance πR²A / (2vb)). Gun off, the ridge gets what a flat part gets, up to the
+    // obliquity of the other face's spray (cos λ).
+    let radius = H * (params().cone_angle / 2.0).tan();
+    for (deg, tolerance) in [(6.0, 0.03), (12.0, 0.03), (30.0, 0.1)] {
+        let beta = f64::to_radians(deg);
+        let (ridge_on, flat_on, on) = ridge_and_flat(beta, f64::INFINITY);
+        let (ridge_off, flat_off, off) = ridge_and_flat(beta, TURN_ON_RADIUS_RATIO * radius);
+        let (excess_on, excess_off) = (ridge_on / flat_on - 1.0, ridge_off / flat_off - 1.0);
+        let predicted = 8.0 * H * beta.sin() / (3.0 * PI * radius);
+        println!(
+            "{deg}°: gun on {:+.2} % (predicted {:+.2} %), gun off {:+.2} %",
+            100.0 * excess_on,
+            100.0 * predicted,
+            100.0 * excess_off,
+        );
+        assert_eq!(on.turns_off, 0);
+        assert!(off.turns_off > 0 && off.turns_off == off.straight + off.arcs);
+        assert!(
+            (excess_on / predicted - 1.0).abs() < 0.1,
+            "{deg}°: gun on {excess_on}, predicted {predicted}"
+        );
+        assert!(
+            excess_off.abs() < tolerance && excess_off.abs() < 0.1 * excess_on,
+            "{deg}°: gun off {excess_off}"
+        );
+    }
+}
+
+#[test]
+fn a_concave_edge_with_normals_across_the_scan_plane_turns_without_stepping_back() {
+    // One pass in the plane x = 0 over two faces meeting at a concave edge (the pass turns by
+    // 4.5° towards the normals), both steep across the scan plane (normals 42° and 43.6° from
+    // it, as on the BWB's upper skin): in the plane, their offsets lie 0.669h and 0.690h from
+    // the pass and do not cross within the faces, so the plain join of the two offsets stepped
+    // back 15 mm. The pass turns where each offset meets the other face's offset plane.
+    let (a1, a2, turn) = (
+        42f64.to_radians(),
+        43.6f64.to_radians(),
+        4.5f64.to_radians(),
+    );
+    let t1 = Vector3::z();
+    let t2 = Vector3::new(0.0, turn.sin(), turn.cos());
+    let n1 = Vector3::new(-a1.cos(), a1.sin(), 0.0);
+    let n2 = Vector3::new(-a2.cos(), a2.sin() * turn.cos(), -a2.sin() * turn.sin());
+    assert!(n1.dot(&t1).abs() < 1e-12 && n2.dot(&t2).abs() < 1e-12 && n2.dot(&t1) < 0.0);
+    let corners = [
+        Point3::origin(),
+        Point3::new(0.0, 0.0, 400.0),
+        Point3::from(Vector3::new(0.0, 0.0, 400.0) + t2 * 400.0),
+    ];
+    let pass = ScanPass {
+        plane: 0,
+        points: corners.to_vec(),
+        faces: vec![0, 1],
+    };
+    let (path, counts) = build_trajectory(&[pass], &[n1, n2], H, 0.35, 0.0, 400.0, f64::INFINITY);
+    assert_eq!(counts.trimmed, 1);
+    assert_eq!(gun_on_reversals(&path), 0);
+    // Distance to a face: a strip along its segment, unbounded along the edge.
+    let strip = |q: &Point3, k: usize, t: &Vector3, n: &Vector3| {
+        let r = q - corners[k];
+        let along = r.dot(t).clamp(0.0, 400.0);
+        let w = r - t * along;
+        let e = t.cross(n);
+        (w - e * w.dot(&e)).norm()
+    };
+    let on: Vec<&Pose> = path.poses.iter().filter(|q| q.kind.process_on()).collect();
+    assert!(on.len() >= 2);
+    for q in &on {
+        let d = strip(&q.position, 0, &t1, &n1).min(strip(&q.position, 1, &t2, &n2));
+        assert!(d >= H * (1.0 - 1e-9), "a gun-on pose {d} from the part");
+    }
+    // Monotone along the pass: every gun-on move goes forward.
+    for w in path.poses.windows(2) {
+        if w[1].kind.process_on() {
+            let step = w[1].position - w[0].position;
+            assert!(step.dot(&(t1 + t2)) > 0.0, "a step back by {step}");
+        }
+    }
+}
+
+#[test]
+fn a_concave_step_before_a_turn_run_gun_off_loses_its_backtrack() {
+    // A sliver face (5 mm) between two steep faces (normals 42° and 43.6° from the scan
+    // plane): a concave edge of 9° into it, too short for the offsets to meet on it, then a
+    // convex edge out of it whose turn (≈ 40 mm) runs gun off. The join of the concave edge
+    // steps back; its tip is dropped, as when the move leaving it had the gun on.
+    let (a1, a2, turn) = (42f64.to_radians(), 43.6f64.to_radians(), 14f64.to_radians());
+    let dir = |theta: f64| Vector3::new(0.0, theta.sin(), theta.cos());
+    let normal =
+        |a: f64, theta: f64| Vector3::new(-a.cos(), a.sin() * theta.cos(), -a.sin() * theta.sin());
+    let (t1, t2) = (dir(0.0), dir(turn));
+    let (n1, n2) = (normal(a1, 0.0), normal(a2, turn));
+    assert!(
+        n2.dot(&t1) < 0.0 && n1.dot(&t2) > 0.0,
+        "concave, then convex"
+    );
+    let p1 = Point3::new(0.0, 0.0, 400.0);
+    let p2 = p1 + t2 * 5.0;
+    let pass = ScanPass {
+        plane: 0,
+        points: vec![Point3::origin(), p1, p2, p2 + t1 * 400.0],
+        faces: vec![0, 1, 2],
+    };
+    let radius = H * (params().cone_angle / 2.0).tan();
+    let (path, counts) = build_trajectory(
+        &[pass],
+        &[n1, n2, n1],
+        H,
+        0.35,
+        0.0,
+        400.0,
+        TURN_ON_RADIUS_RATIO * radius,
+    );
+    assert_eq!(
+        (counts.trimmed, counts.straight, counts.turns_off),
+        (1, 1, 1)
+    );
+    // The robot stops wherever the path turns back; after a gun-on move, it would stop there
+    // spraying.
+    let cos_limit = (150f64).to_radians().cos();
+    for w in path.poses.windows(3) {
+        let (a, b) = (w[1].position - w[0].position, w[2].position - w[1].position);
+        assert!(
+            !(w[1].kind.process_on() && a.dot(&b) < cos_limit * a.norm() * b.norm()),
+            "the gun turns back at {} with the gun on",
+            w[1].position
+        );
+    }
+    // The first face is sprayed up to its edge (the offset of its end, 400 mm on).
+    assert!(path
+        .poses
+        .iter()
+        .any(|q| q.kind.process_on() && (q.position - (p1 + n1 * H)).norm() < 1e-6));
+    // No gun-on move goes back along the pass.
+    for w in path.poses.windows(2) {
+        if w[1].kind.process_on() {
+            let step = w[1].position - w[0].position;
+            assert!(step.dot(&t1) > -1e-9, "a step back by {step}");
+        }
+    }
 }

@@ -43,4 +43,4 @@ pub use speed::{
     optimise_speeds, split_long_moves, SpeedLimits, SpeedPlan, MAX_SWEEPS, MINIMAX_ROUNDS,
     PIECE_RADIUS_RATIO, SMOOTHING,
 };
-pub use trajectory::{build_trajectory, TrajectoryCounts, ARC_STEP_RAD};
+pub use trajectory::{build_trajectory, TrajectoryCounts, ARC_STEP_RAD, TURN_ON_RADIUS_RATIO};

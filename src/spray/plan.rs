@@ -30,7 +30,7 @@ use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame};
 use super::samples::{sample_faces, subdivides, EvaluationSamples};
 use super::search::{ripple, search_spacing, Fidelity, Iteration, Limits, FALLBACK_MARGIN};
 use super::speed::{optimise_speeds, SpeedLimits};
-use super::trajectory::{build_trajectory, TrajectoryCounts};
+use super::trajectory::{build_trajectory, TrajectoryCounts, TURN_ON_RADIUS_RATIO};
 use crate::math::{angle_between, Compact, Point3, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
 use crate::toolpath::ToolPath;
@@ -253,6 +253,7 @@ impl Setup<'_> {
             self.params.transition_angle,
             self.extension,
             self.params.speed,
+            TURN_ON_RADIUS_RATIO * self.model.radius,
         );
         Ok((path, counts, passes.len()))
     }
@@ -447,7 +448,7 @@ pub fn plan_spray(
     let coarse = setup.coarse.as_ref().filter(|_| params.has_limits());
     let mut messages = Vec::new();
     let mut kept: Option<(Real, Evaluation)> = None;
-    let (spacing, limits_met, iterations) = match (limits, params.quality) {
+    let (spacing, iterations) = match (limits, params.quality) {
         (Some(limits), Some(q)) => {
             let width = frame.arc[frame.arc.len() - 1];
             let hi = q.max_spacing.unwrap_or(2.0 * resolved.radius).min(width);
@@ -478,9 +479,9 @@ pub fn plan_spray(
                 },
                 &mut |f| progress("spray search", f),
             )?;
-            (choice.spacing, choice.met, choice.iterations)
+            (choice.spacing, choice.iterations)
         }
-        _ => (params.spacing, true, Vec::new()),
+        _ => (params.spacing, Vec::new()),
     };
     progress("spray plan", 0.0);
     let chosen = match kept {
@@ -536,7 +537,9 @@ pub fn plan_spray(
         empty_interior,
         speed,
     } = chosen;
-    let limits_met = limits.is_none_or(|l| l.met(&quality.interior)) && limits_met;
+    // The figures of the plan delivered decide: with `bestDirection`, another direction may
+    // meet the limits at a spacing where the searched one did not.
+    let limits_met = limits.is_none_or(|l| l.met(&quality.interior));
     let iterations = if iterations.is_empty() {
         vec![Iteration {
             spacing,

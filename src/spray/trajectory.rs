@@ -32,6 +32,18 @@
 //!     lie in the scan plane). Only the pass's own scan polyline is kept clear: where the
 //!     normals leave the scan plane, faces of neighbouring planes may come nearer than `h`.
 //!     Passes without a concave edge skip the removal (their offset only turns away).
+//!   - A concave edge whose offsets meet within both faces is resolved before the loop
+//!     removal, in space (no paper): each offset line reaches the other face's offset plane
+//!     (`h` from both faces) at `x1 = a + s·t_i` and `x2 = b + u·t_j`,
+//!     `s = h(1 − cos β)/(n_j·t_i)`, `u = h(1 − cos β)/(n_i·t_j)`, two points of the line
+//!     where the offset planes meet; the pass turns at their midpoint, at `h` from both
+//!     faces, reached and left within the two offset planes. (Where the normals leave the
+//!     scan plane, the two offsets lie at different distances from the pass in the
+//!     projection and need not cross within the faces, so the plain join `a → b` stepped
+//!     back by `2h·sin(β/2)`: about 120 times on the BWB's upper skin.) Only where `x1` and
+//!     `x2` are no farther apart than `a` and `b`: they part by about `2h·tan(β/2)·cot ψ`
+//!     for a pass crossing the edge at `ψ`, and a pass nearly along a concave edge would
+//!     swerve towards it.
 //!   - An uncut cap is replaced by the pass extension (gun on, `extension` along the end
 //!     segment); a cap cut by a crossing stays (gun on, radial axis, poses of kind `Arc`):
 //!     the pass then ends by turning around its end point at the standoff. A cap may be cut
@@ -47,12 +59,25 @@
 //!     transition instead of done on the spot. Arcs are polylines of at most
 //!     [`ARC_STEP_RAD`] per step. Coplanar, collinear segments are merged. Links are straight
 //!     moves at the standoff (gun off).
+//!   - Gun off over long convex turns (no paper): while the gun turns over a convex edge by
+//!     `β` (a straight transition or an arc) its axis stays on the edge, so the edge gets the
+//!     spray of a spot that stands still for the turn's travel `τ` (`2h·sin(β/2)`, or about
+//!     `h·β` for an arc): at constant speed, summed over parallel passes, about
+//!     `8h·sin β / (3πR) ≈ 0.85·τ/R` of the mean coating on the fold line (+113 % for a 29°
+//!     arc at h 250 mm, α 40°), more than the speed limits can take back. A turn longer than
+//!     `max_turn_on` (the planner passes [`TURN_ON_RADIUS_RATIO`]`·R`) keeps its poses and
+//!     runs with the gun off (kind `Link`): the spray then leaves one face at the edge and
+//!     resumes on the other at the edge, as over a flat part. Shorter turns (a finely
+//!     faceted curve) stay on; the speed optimisation takes back their smaller excess.
 
 use super::raster::ScanPass;
 use crate::math::{angle_between, any_perpendicular, Point3, Real, Vector3};
 use crate::toolpath::{Pose, PoseKind, ToolPath};
 use rustc_hash::FxHashMap;
 
+/// A convex turn whose gun travel exceeds this multiple of the footprint radius `R` runs with
+/// the gun off (see the file header): a shorter one adds at most about 8.5 % on its edge.
+pub const TURN_ON_RADIUS_RATIO: Real = 0.1;
 /// Largest turn of the gun axis between two poses of an arc, radians (5°).
 pub const ARC_STEP_RAD: Real = 0.087_266_462_599_716_48;
 /// A crossing cuts a cap only where the two branches are closer in space than this multiple
@@ -63,8 +88,10 @@ const CAP_PLANE_SINE: Real = 0.25;
 /// Relative slack on the number of arc steps (see [`arc_steps`]).
 const ARC_STEP_SLACK: Real = 1e-6;
 /// A gun-on backtrack (a turn beyond 150°) with a leg shorter than this multiple of the
-/// standoff loses the pose at its tip (no paper; see [`build_trajectory`]).
-pub const BACKTRACK_RATIO: Real = 0.06;
+/// standoff loses the pose at its tip (no paper; see [`build_trajectory`]). A concave join's
+/// back leg is `2h·sin(β/2)`, and the chord that replaces it comes at most `h(1 − cos β)`,
+/// i.e. `leg²/(2h)`, nearer the part: within 1 % of `h` for legs up to `√0.02·h`.
+pub const BACKTRACK_RATIO: Real = 0.14;
 /// Cosine of the turn beyond which consecutive moves count as turning back (150°, as the
 /// exporters' exact stops).
 const REVERSAL_COS: Real = -0.866_025_403_784_438_6;
@@ -89,6 +116,9 @@ pub struct TrajectoryCounts {
     pub straight: usize,
     /// Arcs (convex, `β > β_T`).
     pub arcs: usize,
+    /// Convex turns (straight transitions and arcs, counted there too) run with the gun off:
+    /// their gun travel exceeds the longest turn allowed with the gun on.
+    pub turns_off: usize,
     /// Concave edges: their offsets crossed and the offset behind the crossing was removed.
     pub trimmed: usize,
     /// Pass ends where a crossing cut the round cap, so the pass ends by turning around its
@@ -367,6 +397,7 @@ fn raw_offset(
     t: &[Vector3],
     standoff: Real,
     transition_angle: Real,
+    max_turn_on: Real,
     counts: &mut TrajectoryCounts,
 ) -> (Vec<RawNode>, usize, usize) {
     let m = n.len();
@@ -390,30 +421,65 @@ fn raw_offset(
         }
         let edge = pass.points[j + 1];
         let (a, b) = (edge + ni * standoff, edge + nj * standoff);
+        if beta >= SMALL_TURN_RAD && nj.dot(&t[j]) < 0.0 {
+            counts.trimmed += 1;
+            // Concave edge. Each offset line meets the other face's offset plane (at `h`
+            // from both faces) at `x1 = a + s·t_i` and `x2 = b + u·t_j`, two points of the
+            // line where the offset planes meet (one point when the normals lie in the scan
+            // plane). Where both lie on their segments and no farther apart than `a` and `b`
+            // (the pass crosses the edge at 45° or more), the pass turns at their midpoint,
+            // reached and left within the two offset planes. Otherwise `a` is joined
+            // straight to `b` and the loop removal cuts it.
+            let dip = standoff * (1.0 - ni.dot(&nj));
+            let (ci, cj) = (nj.dot(&t[j]), ni.dot(&t[j + 1]));
+            let back = raw.last().map_or(0.0, |r| (a - r.0).dot(&t[j]));
+            let ahead = (pass.points[j + 2] - edge).dot(&t[j + 1]);
+            let (x1, x2) = (a + t[j] * (dip / ci), b + t[j + 1] * (dip / cj));
+            if cj > 0.0
+                && -dip / ci <= back
+                && dip / cj <= ahead
+                && (x2 - x1).norm() <= (b - a).norm()
+            {
+                let mid = Point3::from((x1.coords + x2.coords) * 0.5);
+                raw.push((mid, -blend(&ni, &nj), PoseKind::Pass));
+            } else {
+                raw.push((a, -ni, PoseKind::Pass));
+                raw.push((b, -nj, PoseKind::Pass));
+            }
+            continue;
+        }
         raw.push((a, -ni, PoseKind::Pass));
         if beta < SMALL_TURN_RAD {
             // A kink within a plane or a rounding-sized turn: `b` is within 10⁻⁴·h of `a`.
             continue;
         }
-        if nj.dot(&t[j]) >= 0.0 {
-            // Convex edge: the offset segments leave a gap.
-            if beta <= transition_angle {
-                counts.straight += 1;
-                let mid = Point3::from((a.coords + b.coords) * 0.5);
-                raw.push((mid, -blend(&ni, &nj), PoseKind::StraightTransition));
-                raw.push((b, -nj, PoseKind::StraightTransition));
+        // Convex edge: the offset segments leave a gap. While the gun turns across it,
+        // its axis stays on the edge: a turn longer than `max_turn_on` runs gun off.
+        let gun = |travel: Real, kind: PoseKind| {
+            if travel > max_turn_on {
+                PoseKind::Link
             } else {
-                counts.arcs += 1;
-                let steps = arc_steps(beta);
-                for s in 1..=steps {
-                    let radial = slerp(&ni, &nj, beta, s as Real / steps as Real);
-                    raw.push((edge + radial * standoff, -radial, PoseKind::Arc));
-                }
+                kind
             }
+        };
+        if beta <= transition_angle {
+            counts.straight += 1;
+            let kind = gun((b - a).norm(), PoseKind::StraightTransition);
+            counts.turns_off += usize::from(kind == PoseKind::Link);
+            let mid = Point3::from((a.coords + b.coords) * 0.5);
+            raw.push((mid, -blend(&ni, &nj), kind));
+            raw.push((b, -nj, kind));
         } else {
-            // Concave edge: joined straight to the next offset; the loop removal cuts it.
-            counts.trimmed += 1;
-            raw.push((b, -nj, PoseKind::Pass));
+            counts.arcs += 1;
+            let steps = arc_steps(beta);
+            // The polyline's length: `steps` chords of the arc.
+            let travel = steps as Real * 2.0 * standoff * libm::sin(0.5 * beta / steps as Real);
+            let kind = gun(travel, PoseKind::Arc);
+            counts.turns_off += usize::from(kind == PoseKind::Link);
+            for s in 1..=steps {
+                let radial = slerp(&ni, &nj, beta, s as Real / steps as Real);
+                raw.push((edge + radial * standoff, -radial, kind));
+            }
         }
     }
     raw.push((
@@ -557,7 +623,9 @@ fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
     }
 }
 
-/// Builds the trajectory of `passes` (already in execution order and direction).
+/// Builds the trajectory of `passes` (already in execution order and direction). A convex
+/// turn (straight transition or arc) whose gun travel exceeds `max_turn_on` runs with the gun
+/// off (`Real::INFINITY` keeps every turn gun on, as the patent does).
 pub fn build_trajectory(
     passes: &[ScanPass],
     normals: &[Vector3],
@@ -565,6 +633,7 @@ pub fn build_trajectory(
     transition_angle: Real,
     extension: Real,
     speed: Real,
+    max_turn_on: Real,
 ) -> (ToolPath, TrajectoryCounts) {
     let mut poses: Vec<Pose> = Vec::new();
     let mut counts = TrajectoryCounts::default();
@@ -580,7 +649,15 @@ pub fn build_trajectory(
             .map(|i| (pass.points[i + 1] - pass.points[i]).normalize())
             .collect();
         let concave_before = counts.trimmed;
-        let (raw, first, last) = raw_offset(pass, &n, &t, standoff, transition_angle, &mut counts);
+        let (raw, first, last) = raw_offset(
+            pass,
+            &n,
+            &t,
+            standoff,
+            transition_angle,
+            max_turn_on,
+            &mut counts,
+        );
         let plane = Plane::of_pass(pass.points[0], &t, &n);
         let raw: Vec<Node> = raw
             .into_iter()
@@ -649,6 +726,7 @@ pub fn build_trajectory(
         nodes.extend(tail);
         // Travel: the direction of the arriving move (the first pose: of the leaving one).
         let begin = poses.len();
+        let forward = pass.points[m] - pass.points[0];
         for (i, &(position, axis, kind)) in nodes.iter().enumerate() {
             if poses.len() > begin && (position - poses[poses.len() - 1].position).norm() <= tol {
                 continue;
@@ -667,21 +745,38 @@ pub fn build_trajectory(
             });
             // A concave crossing a hair behind the previous pose (common on faceted skins)
             // makes the gun step back and forth, which a controller runs as a stop (a paint
-            // dwell): the pose at the tip of such a short backtrack is dropped. Each round
-            // removes a pose, so the loop ends.
+            // dwell): the pose at the tip of such a short backtrack is dropped. Where the
+            // move leaving the tip is a short turn run gun off, the tip is dropped only if
+            // the gun-on move into it runs back along the pass (no coating is lost that the
+            // pass had not just laid), else the gun-off pose goes; a gun-off tip between
+            // gun-off moves goes too. Each round removes a pose, so the loop ends.
             while poses.len() >= begin + 3 {
                 let n = poses.len();
                 let (p0, p1, p2) = (&poses[n - 3], &poses[n - 2], &poses[n - 1]);
                 let (a, b) = (p1.position - p0.position, p2.position - p1.position);
-                let short = a.norm().min(b.norm()) <= BACKTRACK_RATIO * standoff;
+                let limit = BACKTRACK_RATIO * standoff;
+                let short = a.norm().min(b.norm()) <= limit;
                 let back = a.dot(&b) < REVERSAL_COS * a.norm() * b.norm();
-                if !(p1.kind.process_on() && p2.kind.process_on() && short && back) {
+                if !(short && back) {
                     break;
                 }
-                let chord = p2.position - p0.position;
-                let axis = p2.axis;
-                poses.remove(n - 2);
-                poses[n - 2].travel = perpendicular(chord, &axis);
+                let drop = match (p1.kind.process_on(), p2.kind.process_on()) {
+                    (true, true) | (false, false) => n - 2,
+                    (true, false) if b.norm() <= limit => {
+                        if a.dot(&forward) < 0.0 {
+                            n - 2
+                        } else {
+                            n - 1
+                        }
+                    }
+                    _ => break,
+                };
+                if drop == n - 2 {
+                    let chord = p2.position - p0.position;
+                    let axis = p2.axis;
+                    poses[n - 1].travel = perpendicular(chord, &axis);
+                }
+                poses.remove(drop);
                 counts.backtracks += 1;
             }
         }
@@ -693,6 +788,12 @@ pub fn build_trajectory(
         notes.push(format!(
             "{} concave edges: the offsets of both sides cross and every offset behind their crossing was removed, so the pass turns at the crossing (the patent treats convex edges only)",
             counts.trimmed
+        ));
+    }
+    if counts.turns_off > 0 {
+        notes.push(format!(
+            "{} turns over convex edges run with the gun off: the gun's axis stays on the edge while it turns, so with the gun on the edge would get a spot of extra coating",
+            counts.turns_off
         ));
     }
     if counts.capped > 0 {
