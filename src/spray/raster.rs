@@ -317,23 +317,29 @@ pub fn scan_passes(
     if n == 0 {
         return Vec::new();
     }
-    // Planes are sorted (not necessarily evenly spaced): the range of planes a face spans
-    // by binary search, one plane of slack each way; the exact sign test decides.
-    let plane_range = |f: u32| {
-        let d = mesh
-            .corners(f as usize)
-            .map(|c| frame.across.dot(&c.coords));
-        let (lo, hi) = (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]));
-        let k0 = offsets.partition_point(|&o| o < lo).saturating_sub(1);
-        let k1 = offsets.partition_point(|&o| o <= hi).min(n - 1);
-        (k0 as i64, k1 as i64)
-    };
+    // Planes are sorted (not necessarily evenly spaced). A plane `s` crosses a face when a
+    // corner lies below it and one not (`across·x < s` for some corner, not for all), i.e.
+    // `lo < s ≤ hi` over the corners: the planes `k0..k1` by binary search, exactly the
+    // faces the sign test below finds crossed (the test compares the same products).
+    let ranges: Vec<(usize, usize)> = frame
+        .faces
+        .iter()
+        .map(|&f| {
+            let d = mesh
+                .corners(f as usize)
+                .map(|c| frame.across.dot(&c.coords));
+            let (lo, hi) = (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]));
+            (
+                offsets.partition_point(|&o| o <= lo),
+                offsets.partition_point(|&o| o <= hi),
+            )
+        })
+        .collect();
     // Bucket faces by plane (counting sort).
     let mut start = vec![0usize; n + 1];
-    for &f in &frame.faces {
-        let (k0, k1) = plane_range(f);
-        for k in k0..=k1 {
-            start[k as usize + 1] += 1;
+    for &(k0, k1) in &ranges {
+        for k in k0..k1 {
+            start[k + 1] += 1;
         }
     }
     for k in 0..n {
@@ -341,11 +347,10 @@ pub fn scan_passes(
     }
     let mut fill = start.clone();
     let mut bucket = vec![0u32; start[n]];
-    for &f in &frame.faces {
-        let (k0, k1) = plane_range(f);
-        for k in k0..=k1 {
-            bucket[fill[k as usize]] = f;
-            fill[k as usize] += 1;
+    for (&f, &(k0, k1)) in frame.faces.iter().zip(&ranges) {
+        for k in k0..k1 {
+            bucket[fill[k]] = f;
+            fill[k] += 1;
         }
     }
     let min_length = SEGMENT_MIN_RATIO * frame.size;
