@@ -425,19 +425,23 @@ fn check_search(plan: &SprayPlan, max_error: f64, resolution: f64) {
         assert_eq!(it.full, it.resolution == resolution);
         assert_eq!(it.met, it.error <= max_error);
     }
-    // Screening runs widest first until a spacing meets the limits at full resolution.
-    let first_met = plan
+    // Screening runs widest first until a spacing meets the limits on the coarse samples;
+    // the refinement then only goes wider than it.
+    assert!(plan.iterations.iter().any(|it| it.full && it.met));
+    let first_screened = plan
         .iterations
         .iter()
-        .position(|it| it.full && it.met)
-        .expect("a spacing met the limits at full resolution");
-    let screened: Vec<_> = plan.iterations[..first_met]
+        .position(|it| !it.full && it.met)
+        .expect("a spacing met the limits on the coarse samples");
+    let screened: Vec<_> = plan.iterations[..=first_screened]
         .iter()
         .filter(|it| !it.full)
         .collect();
     for w in screened.windows(2) {
         assert!(w[0].spacing > w[1].spacing);
     }
+    let candidate = plan.iterations[first_screened].spacing;
+    assert!(plan.spacing >= candidate);
     let full: Vec<_> = plan.iterations.iter().filter(|it| it.full).collect();
     // The plan's figures are those of the chosen spacing at full resolution.
     let chosen = full

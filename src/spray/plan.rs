@@ -43,6 +43,9 @@ pub const COARSE_RESOLUTION_RATIO: Real = 2.0;
 /// The coarse scan is used only when its samples are at most this fraction of the full ones
 /// (on a mesh coarser than the resolution both are the mesh's own vertices).
 const COARSE_SAMPLE_FRACTION: Real = 0.5;
+/// The speed optimiser solves on the samples thinned to the resolution only when that
+/// leaves at most this fraction of them.
+const SOLVE_SAMPLE_FRACTION: Real = 0.25;
 /// A target thickness counts as reached when the interior mean is within this fraction.
 pub const TARGET_TOLERANCE: Real = 0.02;
 /// Two directions whose scores differ by less than this fraction count as equally good
@@ -160,7 +163,7 @@ struct Sampling {
     grid: PointGrid,
     interior: Vec<bool>,
     /// The same samples thinned to one per cube of the resolution, when that leaves at most
-    /// [`COARSE_SAMPLE_FRACTION`] of them (a mesh finer than the resolution): the speed
+    /// [`SOLVE_SAMPLE_FRACTION`] of them (a mesh finer than the resolution): the speed
     /// optimiser solves on these, and the plan's speeds are then deposited on all samples.
     solve: Option<Box<Sampling>>,
 }
@@ -180,9 +183,18 @@ impl Sampling {
         })
     }
 
-    /// Gives the speed optimiser its thinned samples where they are markedly fewer.
+    /// Gives the speed optimiser the samples thinned to one per cube of the resolution where
+    /// that leaves at most [`SOLVE_SAMPLE_FRACTION`] of them: samples several times denser
+    /// than the resolution in each direction, so every cube keeps one and the thinned set
+    /// has no holes (a lattice at about the resolution, thinned at its own spacing, would).
     fn with_solve_samples(mut self, radius: Real) -> Sampling {
-        self.solve = self.thinned(self.resolution, radius).map(Box::new);
+        self.solve = self
+            .thinned(self.resolution, radius)
+            .filter(|t| {
+                t.samples.positions.len() as Real
+                    <= SOLVE_SAMPLE_FRACTION * self.samples.positions.len() as Real
+            })
+            .map(Box::new);
         self
     }
 
@@ -397,9 +409,6 @@ pub fn plan_spray(
                 resolved.radius,
                 resolved.edge_exclusion,
             )?;
-            // Where the mesh is finer than the resolution its vertices are the samples at
-            // any resolution: the screening thins them.
-            let c = c.thinned(cell, resolved.radius).unwrap_or(c);
             let fewer = (c.samples.positions.len() as Real)
                 <= COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real;
             if fewer {

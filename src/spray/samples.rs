@@ -2,7 +2,7 @@
 //!
 //! Source: spray patent (Tsinghua, Guan & Chen), step 6 evaluates thickness at points where
 //! equally spaced section planes cut the STL. No paper for this replacement: each triangle
-//! is split into `k²` sub-triangles with `k = round(longest edge / resolution)`, so coarse
+//! is split into `k²` sub-triangles with `k = ceil(longest edge / resolution)`, so coarse
 //! CAD meshes (a flat panel of two triangles) get dense samples too, and the sub-triangles
 //! form a display mesh for a smooth heat map.
 //! Input:  mesh, selected faces, resolution.
@@ -33,15 +33,13 @@ pub struct EvaluationSamples {
 }
 
 /// Subdivisions of a face for `resolution`: its longest edge over the resolution, rounded
-/// to the nearest whole number (so the samples are about the resolution apart: a mesh whose
-/// edges are about the resolution keeps its own vertices as samples), but no more than
-/// `2·√area / resolution`, so a sliver (a long edge, hardly any area) does not get
-/// thousands of samples; the two agree on well-shaped triangles.
+/// up, but no more than `2·√area / resolution`, so a sliver (a long edge, hardly any area)
+/// does not get thousands of samples; the two agree on well-shaped triangles.
 fn subdivisions(corners: &[Point3; 3], resolution: Real) -> usize {
     let [a, b, c] = corners;
     let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
     let area = 0.5 * (b - a).cross(&(c - a)).norm();
-    let by_edge = (longest / resolution).round();
+    let by_edge = (longest / resolution).ceil();
     let by_area = (2.0 * area.sqrt() / resolution).ceil();
     by_edge.min(by_area).max(1.0) as usize
 }

@@ -7,21 +7,23 @@
 //!         spacing at coarse or full evaluation resolution.
 //! Output: the chosen spacing, whether it meets the limits, every spacing tried (with the
 //!         resolution it was evaluated at).
-//! Cost:   at most 2·[`PREDICTED_WINDOWS`] + [`COARSE_STEPS`] candidates (each confirmed at full
-//!         resolution when it passes coarse), then at most [`REFINE_STEPS`] bisections and
-//!         [`CONFIRM_STEPS`] confirmations.
+//! Cost:   at most 2·[`PREDICTED_WINDOWS`] + [`COARSE_STEPS`] candidates screened; for each
+//!         that passes the screening, at most [`REFINE_STEPS`] bisections on the screening
+//!         samples and [`CONFIRM_STEPS`] confirmations at full resolution (usually one).
 //! Deviations (no paper): quality is not monotone in `b`: the sum of neighbouring passes
 //!         swings between ridges and troughs, so the feasible spacings form windows (on a plate
 //!         with h 250 mm, α 40°, δ ≤ 0.10 holds below about 80 mm and again from about 104 to
 //!         118 mm). The ripple of a periodic sum of one pass's planar profile
-//!         `(1 − y²/R²)^{3/2}` predicts these windows ([`ripple`]); the search evaluates, from
+//!         `(1 − y²/R²)^{3/2}` predicts these windows ([`ripple`]); the search screens, from
 //!         the widest down, the top and the predicted best spacing of each predicted window,
 //!         then an even scan of [`COARSE_STEPS`] spacings (for surfaces the prediction misses;
-//!         less those predicted beyond [`PREDICTION_SLACK`] times the limits),
-//!         and stops at the first that meets the limits at full resolution. It then bisects
-//!         between that spacing and the nearest wider spacing tried, which failed, until the
-//!         bracket is at most [`REFINE_TOLERANCE`] of the spacing. When no spacing meets the
-//!         limits, the widest one whose excess `max(E/E_m, δ/δ_m)` is within
+//!         less those predicted beyond [`PREDICTION_SLACK`] times the limits). At the first
+//!         that meets the limits on the screening samples it bisects upwards, between that
+//!         spacing and the nearest wider spacing tried, which failed, until the bracket is at
+//!         most [`REFINE_TOLERANCE`] of the spacing, then confirms at full resolution from the
+//!         widest spacing the bisection found down to the candidate itself; the first
+//!         confirmed is chosen (when none is, the next candidate follows). When no spacing
+//!         meets the limits, the widest one whose excess `max(E/E_m, δ/δ_m)` is within
 //!         [`FALLBACK_MARGIN`] of the smallest excess seen is chosen (evaluated at full
 //!         resolution), not simply the closest one, which is often the narrowest.
 
@@ -187,14 +189,56 @@ pub fn search_spacing(
     } else {
         Fidelity::Full
     };
-    // Widest first: the first candidate meeting the limits at full fidelity is the widest.
-    let mut feasible: Option<Real> = None;
-    for &b in &candidates {
-        if run(b, screen, &mut iterations)?
-            && (!coarse_scan || run(b, Fidelity::Full, &mut iterations)?)
-        {
-            feasible = Some(b);
-            break;
+    // Widest first. A candidate meeting the limits on the screening samples is refined
+    // upwards on them, between it and the nearest wider candidate (which failed), or else the
+    // nearest wider spacing predicted clearly beyond the limits, or else `hi`; then the
+    // spacings found are confirmed at full fidelity, widest first, down to the candidate
+    // itself: the first confirmed is the answer. When none is, the next candidate follows.
+    for (n, &b) in candidates.iter().enumerate() {
+        if !run(b, screen, &mut iterations)? {
+            continue;
+        }
+        let beyond = (1..=PREDICTION_STEPS)
+            .map(|k| b + (hi - b) * k as Real / PREDICTION_STEPS as Real)
+            .find(|&x| predict(x) > PREDICTION_SLACK)
+            .unwrap_or(hi);
+        // Candidates are sorted widest first: the ones before `b` are wider.
+        let mut upper = candidates[..n].iter().copied().fold(beyond, Real::min);
+        let mut widest = b;
+        for _ in 0..REFINE_STEPS {
+            if upper - widest <= REFINE_TOLERANCE * widest {
+                break;
+            }
+            let mid = 0.5 * (widest + upper);
+            if run(mid, screen, &mut iterations)? {
+                widest = mid;
+            } else {
+                upper = mid;
+            }
+        }
+        if !coarse_scan {
+            return Ok(SpacingChoice {
+                spacing: widest,
+                met: true,
+                iterations,
+            });
+        }
+        let mut confirm: Vec<Real> = iterations
+            .iter()
+            .filter(|it| !it.full && it.met && it.spacing > b && it.spacing <= widest)
+            .map(|it| it.spacing)
+            .collect();
+        confirm.sort_by(|x, y| y.total_cmp(x));
+        confirm.truncate(CONFIRM_STEPS.saturating_sub(1));
+        confirm.push(b);
+        for c in confirm {
+            if run(c, Fidelity::Full, &mut iterations)? {
+                return Ok(SpacingChoice {
+                    spacing: c,
+                    met: true,
+                    iterations,
+                });
+            }
         }
     }
     let excess = |it: &Iteration| {
@@ -204,74 +248,25 @@ pub fn search_spacing(
             ..Default::default()
         })
     };
-    let Some(mut feasible) = feasible else {
-        // The widest spacing within the margin of the smallest excess, at full fidelity.
-        let widest_near_best = |iterations: &[Iteration], full_only: bool| {
-            let seen = iterations.iter().filter(|it| it.full || !full_only);
-            let best = seen.clone().map(excess).fold(Real::INFINITY, Real::min);
-            seen.filter(|it| excess(it) <= best * (1.0 + FALLBACK_MARGIN))
-                .map(|it| it.spacing)
-                .fold(Real::NEG_INFINITY, Real::max)
-        };
-        let mut pick = widest_near_best(&iterations, false);
-        if !pick.is_finite() {
-            pick = hi;
-        }
-        if coarse_scan {
-            run(pick, Fidelity::Full, &mut iterations)?;
-            pick = widest_near_best(&iterations, true);
-        }
-        return Ok(SpacingChoice {
-            spacing: pick,
-            met: false,
-            iterations,
-        });
-    };
-    // Bisect between the feasible spacing and the nearest wider candidate, which failed, or
-    // else the nearest wider spacing predicted clearly beyond the limits, or else `hi`.
-    let beyond = (1..=PREDICTION_STEPS)
-        .map(|k| feasible + (hi - feasible) * k as Real / PREDICTION_STEPS as Real)
-        .find(|&b| predict(b) > PREDICTION_SLACK)
-        .unwrap_or(hi);
-    let mut upper = candidates
-        .iter()
-        .copied()
-        .filter(|&b| b > feasible)
-        .fold(beyond, Real::min);
-    // At the screening fidelity; the widest spacing it finds is then confirmed at full
-    // fidelity, bisecting back towards the confirmed one while the confirmation fails.
-    let confirmed = feasible;
-    for _ in 0..REFINE_STEPS {
-        if upper - feasible <= REFINE_TOLERANCE * feasible {
-            break;
-        }
-        let b = 0.5 * (feasible + upper);
-        if run(b, screen, &mut iterations)? {
-            feasible = b;
-        } else {
-            upper = b;
-        }
-    }
-    if coarse_scan && feasible > confirmed {
-        // The spacings the bisection found feasible on the coarse samples, widest first.
-        let mut screened: Vec<Real> = iterations
-            .iter()
-            .filter(|it| !it.full && it.met && it.spacing > confirmed)
+    // The widest spacing within the margin of the smallest excess, at full fidelity.
+    let widest_near_best = |iterations: &[Iteration], full_only: bool| {
+        let seen = iterations.iter().filter(|it| it.full || !full_only);
+        let best = seen.clone().map(excess).fold(Real::INFINITY, Real::min);
+        seen.filter(|it| excess(it) <= best * (1.0 + FALLBACK_MARGIN))
             .map(|it| it.spacing)
-            .collect();
-        screened.sort_by(|a, b| b.total_cmp(a));
-        let mut good = confirmed;
-        for &b in screened.iter().take(CONFIRM_STEPS) {
-            if run(b, Fidelity::Full, &mut iterations)? {
-                good = b;
-                break;
-            }
-        }
-        feasible = good;
+            .fold(Real::NEG_INFINITY, Real::max)
+    };
+    let mut pick = widest_near_best(&iterations, false);
+    if !pick.is_finite() {
+        pick = hi;
+    }
+    if coarse_scan {
+        run(pick, Fidelity::Full, &mut iterations)?;
+        pick = widest_near_best(&iterations, true);
     }
     Ok(SpacingChoice {
-        spacing: feasible,
-        met: true,
+        spacing: pick,
+        met: false,
         iterations,
     })
 }
