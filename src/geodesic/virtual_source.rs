@@ -46,7 +46,7 @@
 use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
 use super::source::ResolvedSource;
 use super::surface::{segment_distance, Surface};
-use super::unfolding::saddle_or_boundary_vertices;
+use super::unfolding::is_saddle_or_boundary;
 use super::unfolding::Entry;
 use crate::math::{Point3, Real, Vector3};
 use std::collections::BinaryHeap;
@@ -105,7 +105,9 @@ struct Solver<'a> {
     dist: Vec<Real>,
     src: Vec<Virtual>,
     settled: Vec<bool>,
-    bend: Vec<bool>,
+    /// Whether paths may bend at a vertex: 0 not yet known, 1 no, 2 yes (asked rarely, so
+    /// found on demand).
+    bend: Vec<u8>,
     heap: BinaryHeap<Entry>,
 }
 
@@ -166,6 +168,13 @@ impl Solver<'_> {
         (within.contains(&lambda) && within.contains(&tau)).then_some(d)
     }
 
+    fn bends_at(&mut self, u: usize) -> bool {
+        if self.bend[u] == 0 {
+            self.bend[u] = 1 + is_saddle_or_boundary(self.surface, u) as u8;
+        }
+        self.bend[u] == 2
+    }
+
     fn improve(&mut self, x: usize, d: Real, s: Virtual) {
         if d < self.dist[x] {
             self.dist[x] = d;
@@ -212,7 +221,7 @@ impl Solver<'_> {
                     extend: [false; 2],
                 };
                 match best {
-                    Some((d, s)) if !(self.bend[u] && direct() < d) => self.improve(x, d, s),
+                    Some((d, s)) if !(direct() < d && self.bends_at(u)) => self.improve(x, d, s),
                     _ => self.improve(x, direct(), at_u),
                 }
             }
@@ -263,7 +272,7 @@ pub(crate) fn propagate(
         dist: vec![Real::INFINITY; nv],
         src: vec![nowhere; nv],
         settled: vec![false; nv],
-        bend: saddle_or_boundary_vertices(surface),
+        bend: vec![0; nv],
         heap: BinaryHeap::new(),
     };
     for &v in &source.vertices {
