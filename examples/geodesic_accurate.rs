@@ -75,6 +75,41 @@ fn main() {
             d[at],
             exact(at)
         );
+        // BINS=n: the largest error in n bins of the analytic distance.
+        if let Some(n) = std::env::var("BINS")
+            .ok()
+            .and_then(|w| w.parse::<usize>().ok())
+        {
+            let top = (0..d.len()).map(&exact).fold(0.0, Real::max);
+            let mut bins = vec![0.0 as Real; n];
+            for (i, d) in d.iter().enumerate() {
+                let b = ((exact(i) / top * n as Real) as usize).min(n - 1);
+                bins[b] = bins[b].max((d - exact(i)).abs());
+            }
+            for (b, e) in bins.iter().enumerate() {
+                println!(
+                    "    distance {:8.2}..{:8.2}: max error {e:.5}",
+                    b as Real * top / n as Real,
+                    (b + 1) as Real * top / n as Real
+                );
+            }
+        }
+        // WORST=n: the n largest errors, with their analytic distance.
+        if let Some(n) = std::env::var("WORST")
+            .ok()
+            .and_then(|w| w.parse::<usize>().ok())
+        {
+            let mut order: Vec<usize> = (0..d.len()).collect();
+            order.sort_by(|&a, &b| (d[b] - exact(b)).abs().total_cmp(&(d[a] - exact(a)).abs()));
+            for &i in order.iter().take(n) {
+                println!(
+                    "    {:+.5} at distance {:.3}, {:?}",
+                    d[i] - exact(i),
+                    exact(i),
+                    s.mesh.positions()[i]
+                );
+            }
+        }
         println!(
             "{m}: {dt:.3} s, max error {max:.5}, mean {:.5}, windows {} ({:.2} per edge)",
             sum / d.len() as Real,

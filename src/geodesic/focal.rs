@@ -1,0 +1,328 @@
+//! Focal-point refinement of the accurate (virtual source) geodesic method.
+//!
+//! Source: no paper; chosen because the error of virtual-source propagation (Trettner, Bommes
+//!         & Kobbelt 2021) is first order in the edge length only where fronts from a
+//!         continuum of directions converge (the pole of a cap measured from its rim, the
+//!         antipode of a point on a sphere): a vertex there is offered its neighbours'
+//!         sources, whose rays miss it by an angle that does not shrink with the edges
+//!         (ring k around the focus: error about h/k). Linear subdivision keeps the
+//!         polyhedron, so the propagation rerun on a subdivided patch around the focus
+//!         converges to the same distance with 2^L times shorter edges.
+//! Input:  a settled [`Solver`] (distance and virtual source per vertex).
+//! Output: the same distances, lowered inside each refined patch to the patch's answer.
+//! Steps:  I. a face is focal when the ray directions of its three vertices (foot of the
+//!            virtual source → vertex, turned into the face's plane) wind once around it
+//!            and point inwards (a sink of the direction field; a shock between two
+//!            fronts has two directions only and does not wind);
+//!         II. a patch is the faces within [`RINGS`] vertex rings of the focal faces;
+//!         III. its faces are cut into 4^L (L ≤ [`MAX_LEVELS`], the most the budget allows),
+//!             the vertices on its outer edges are seeded with the sources of the settled
+//!             vertices there (moved into the patch's faces), and the propagation is rerun
+//!             inside; a vertex keeps the smaller of its two distances (both are lengths of
+//!             unfolded paths, so the smaller is the better one).
+//! Cost:   O(F) for step I (three dot products a face, a few rotations on the rare faces
+//!         that pass them); steps II–III at most `budget` subdivided faces in all.
+
+use super::params::GeodesicError;
+use super::surface::Surface;
+use super::virtual_source::{foot, rotate, Solver, Virtual};
+use crate::math::{Point3, Real, Vector3};
+use crate::mesh::{FaceAdjacency, TriMesh};
+use std::collections::{HashMap, VecDeque};
+
+/// Vertex rings around the focal faces that are subdivided (no paper: the coarse error at
+/// ring k is about h/k, so at ten rings the seeds are ten times better than the focus was).
+pub(super) const RINGS: u8 = 42;
+/// Rings of the innermost patches at least.
+const MIN_RINGS: u8 = 4;
+/// Nested refinements at most (edges up to 2^depth times shorter at the focus).
+pub(super) const MAX_DEPTH: u32 = 3;
+/// Ray directions whose cosine is above this for every pair of a face's vertices cannot wind
+/// around it (a winding needs two directions at least 120° apart; the slack covers the turn
+/// between the planes of the sources).
+const WINDING_COSINE: Real = -0.4;
+
+/// Subdivided faces allowed in all on a surface of `faces` active faces (no paper: a quarter of
+/// the surface, so the refinement costs at most about a quarter of the propagation, and at
+/// least enough for one patch on small meshes).
+pub(super) fn budget(faces: usize) -> usize {
+    (faces / 4).max(1 << 14)
+}
+
+/// Bytes per subdivided face at most (mesh, adjacency, surface tables, solver state).
+pub(super) const BYTES_PER_FACE: u64 = 256;
+
+/// Lowers the distances of `s` inside patches around its focal points, refining at most
+/// `budget` faces in all.
+pub(super) fn refine_focal(
+    s: &mut Solver,
+    budget: usize,
+    depth: u32,
+    rings: u8,
+) -> Result<usize, GeodesicError> {
+    let surface = s.surface;
+    let mesh = surface.mesh;
+    let pos = mesh.positions();
+    // Step I: the unit ray direction arriving at each reached vertex (zero at the source).
+    let direction: Vec<Vector3> = (0..mesh.vertex_count())
+        .map(|v| {
+            let src = &s.src[v];
+            if !s.dist[v].is_finite() {
+                return Vector3::zeros();
+            }
+            let w = pos[v] - foot(&pos[v], &src.p, &src.q, src.extend, s.reach);
+            let l = w.norm();
+            if l > 0.0 {
+                w / l
+            } else {
+                Vector3::zeros()
+            }
+        })
+        .collect();
+    let mut focal: Vec<u32> = Vec::new();
+    for &f in &surface.faces {
+        let t = mesh.triangles()[f as usize].map(|v| v as usize);
+        let g = t.map(|v| direction[v]);
+        if g.iter().any(|g| g.norm_squared() == 0.0)
+            || (g[0].dot(&g[1]) > WINDING_COSINE
+                && g[1].dot(&g[2]) > WINDING_COSINE
+                && g[2].dot(&g[0]) > WINDING_COSINE)
+        {
+            continue;
+        }
+        let n = &s.normals[f as usize];
+        let g = [0, 1, 2].map(|k| rotate(g[k], &s.normals[s.src[t[k]].face as usize], n));
+        let turn = [0, 1, 2].map(|k| g[k].cross(&g[(k + 1) % 3]).dot(n));
+        let winds = turn.iter().all(|&c| c > 0.0) || turn.iter().all(|&c| c < 0.0);
+        let centre = Point3::from((pos[t[0]].coords + pos[t[1]].coords + pos[t[2]].coords) / 3.0);
+        let inwards: Real = (0..3).map(|k| g[k].dot(&(centre - pos[t[k]]))).sum();
+        if winds && inwards > 0.0 {
+            focal.push(f);
+        }
+    }
+    if focal.is_empty() || depth == 0 {
+        return Ok(0);
+    }
+    // Step II: vertex rings by breadth-first search (each vertex enters the queue once).
+    let mut ring = vec![u8::MAX; mesh.vertex_count()];
+    let mut queue = VecDeque::new();
+    for &f in &focal {
+        for v in mesh.triangles()[f as usize] {
+            if ring[v as usize] != 0 {
+                ring[v as usize] = 0;
+                queue.push_back(v as usize);
+            }
+        }
+    }
+    let mut reached = Vec::new();
+    // Faces a patch may have: each becomes four.
+    let cap = budget / 4;
+    let mut faces_seen = 0usize;
+    let mut last_ring = rings;
+    while let Some(v) = queue.pop_front() {
+        if ring[v] > last_ring {
+            ring[v] = u8::MAX;
+            continue;
+        }
+        reached.push(v);
+        faces_seen += surface.faces_of(v).len();
+        if faces_seen > 2 * cap && last_ring > ring[v] {
+            // A vertex has about six faces and a face three vertices: stop after this ring.
+            last_ring = ring[v];
+        }
+        if ring[v] >= last_ring {
+            continue;
+        }
+        for &f in surface.faces_of(v) {
+            for w in mesh.triangles()[f as usize] {
+                if ring[w as usize] == u8::MAX {
+                    ring[w as usize] = ring[v] + 1;
+                    queue.push_back(w as usize);
+                }
+            }
+        }
+    }
+    let mut patch: Vec<u32> = reached
+        .iter()
+        .flat_map(|&v| surface.faces_of(v).iter().copied())
+        .filter(|&f| {
+            mesh.triangles()[f as usize]
+                .iter()
+                .all(|&w| ring[w as usize] != u8::MAX)
+        })
+        .collect();
+    patch.sort_unstable();
+    patch.dedup();
+    if patch.is_empty() || 4 * patch.len() > budget {
+        return Ok(0);
+    }
+    let levels = 1;
+    // Step III.
+    let in_patch = |f: usize| patch.binary_search(&(f as u32)).is_ok();
+    let refined = subdivide(surface, &patch, levels);
+    let mesh2 = TriMesh::new(refined.positions, refined.triangles).map_err(|e| {
+        GeodesicError::LimitExceeded(format!("the focal patch could not be built: {e}"))
+    })?;
+    let adjacency2 = FaceAdjacency::new(&mesh2);
+    let surface2 = Surface::new(&mesh2, &adjacency2, None)?;
+    let mut s2 = Solver::new(&surface2);
+    s2.reach = s.reach;
+    let pos2 = mesh2.positions();
+    // Seeds: the coarse vertices and edge points on the patch's outer edges.
+    for (i, &f) in patch.iter().enumerate() {
+        let f = f as usize;
+        let child = refined.first_child[i];
+        let tri = mesh.triangles()[f];
+        for k in 0..3 {
+            let v = tri[k] as usize;
+            let outer_vertex = surface.faces_of(v).iter().any(|&g| !in_patch(g as usize));
+            if outer_vertex && s.dist[v].is_finite() {
+                let r = refined.corner[i][k] as usize;
+                let src = s
+                    .moved(v, f)
+                    .unwrap_or_else(|| Virtual::point(pos[v], s.dist[v], f as u32));
+                s2.improve(r, s.dist[v], Virtual { face: child, ..src });
+            }
+            let outer_edge = matches!(surface.across(f, k), Some(g) if !in_patch(g));
+            if !outer_edge {
+                continue;
+            }
+            let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
+            let sources: Vec<Virtual> = [a, b].iter().filter_map(|&u| s.moved(u, f)).collect();
+            for &r in &refined.edge_points[i][k] {
+                let x = pos2[r as usize];
+                let best = sources
+                    .iter()
+                    .map(|src| {
+                        (
+                            src.sigma + (x - foot(&x, &src.p, &src.q, src.extend, s.reach)).norm(),
+                            src,
+                        )
+                    })
+                    .min_by(|p, q| p.0.total_cmp(&q.0));
+                if let Some((d, src)) = best {
+                    s2.improve(
+                        r as usize,
+                        d,
+                        Virtual {
+                            face: child,
+                            ..*src
+                        },
+                    );
+                }
+            }
+        }
+    }
+    s2.run(None);
+    let used = 4 * patch.len();
+    let used = used
+        + refine_focal(
+            &mut s2,
+            budget - used,
+            depth - 1,
+            (rings / 2).max(MIN_RINGS),
+        )?;
+    for (i, &f) in patch.iter().enumerate() {
+        for (k, &v) in mesh.triangles()[f as usize].iter().enumerate() {
+            let d = s2.dist[refined.corner[i][k] as usize];
+            let v = v as usize;
+            if d < s.dist[v] {
+                s.dist[v] = d;
+            }
+        }
+    }
+    Ok(used)
+}
+
+/// A patch cut into 4^L faces each: vertices welded along shared edges.
+struct Subdivision {
+    positions: Vec<Point3>,
+    triangles: Vec<[u32; 3]>,
+    /// Per patch face: the id of its first child (in its plane).
+    first_child: Vec<u32>,
+    /// Per patch face: the new ids of its corners.
+    corner: Vec<[u32; 3]>,
+    /// Per patch face and edge slot k (corner k → k + 1): the new ids of the points inside
+    /// the edge.
+    edge_points: Vec<[Vec<u32>; 3]>,
+}
+
+/// Linear subdivision of `patch` (ascending face ids) into `m = 2^levels` parts an edge; the
+/// points on an edge are computed from its smaller vertex id so neighbours share them exactly.
+fn subdivide(surface: &Surface, patch: &[u32], levels: u32) -> Subdivision {
+    let mesh = surface.mesh;
+    let pos = mesh.positions();
+    let m = 1usize << levels;
+    let mut out = Subdivision {
+        positions: Vec::new(),
+        triangles: Vec::with_capacity(patch.len() * m * m),
+        first_child: Vec::with_capacity(patch.len()),
+        corner: Vec::with_capacity(patch.len()),
+        edge_points: Vec::with_capacity(patch.len()),
+    };
+    let mut corners: HashMap<u32, u32> = HashMap::new();
+    let mut edges: HashMap<(u32, u32, usize), u32> = HashMap::new();
+    let mut id = vec![0u32; (m + 1) * (m + 1)];
+    for &f in patch {
+        let t = mesh.triangles()[f as usize];
+        let [a, b, c] = t.map(|v| pos[v as usize]);
+        // Lattice point (i, j) = a + i/m (b − a) + j/m (c − a).
+        let mut on_edge = |p: u32, q: u32, k: usize, out: &mut Subdivision| -> u32 {
+            let (lo, hi, k) = if p < q { (p, q, k) } else { (q, p, m - k) };
+            *edges.entry((lo, hi, k)).or_insert_with(|| {
+                let (pl, ph) = (pos[lo as usize], pos[hi as usize]);
+                out.positions.push(pl + (ph - pl) * (k as Real / m as Real));
+                (out.positions.len() - 1) as u32
+            })
+        };
+        let mut edge_points: [Vec<u32>; 3] = Default::default();
+        for i in 0..=m {
+            for j in 0..=m - i {
+                let v = if (i, j) == (0, 0) || (i, j) == (m, 0) || (i, j) == (0, m) {
+                    let k = if i == m {
+                        1
+                    } else if j == m {
+                        2
+                    } else {
+                        0
+                    };
+                    *corners.entry(t[k]).or_insert_with(|| {
+                        out.positions.push(pos[t[k] as usize]);
+                        (out.positions.len() - 1) as u32
+                    })
+                } else if j == 0 {
+                    let v = on_edge(t[0], t[1], i, &mut out);
+                    edge_points[0].push(v);
+                    v
+                } else if i + j == m {
+                    let v = on_edge(t[1], t[2], j, &mut out);
+                    edge_points[1].push(v);
+                    v
+                } else if i == 0 {
+                    let v = on_edge(t[0], t[2], j, &mut out);
+                    edge_points[2].push(v);
+                    v
+                } else {
+                    let (u, w) = (i as Real / m as Real, j as Real / m as Real);
+                    out.positions.push(a + (b - a) * u + (c - a) * w);
+                    (out.positions.len() - 1) as u32
+                };
+                id[i * (m + 1) + j] = v;
+            }
+        }
+        let at = |i: usize, j: usize| id[i * (m + 1) + j];
+        out.first_child.push(out.triangles.len() as u32);
+        out.corner.push([at(0, 0), at(m, 0), at(0, m)]);
+        out.edge_points.push(edge_points);
+        for i in 0..m {
+            for j in 0..m - i {
+                out.triangles.push([at(i, j), at(i + 1, j), at(i, j + 1)]);
+                if i + j + 1 < m {
+                    out.triangles
+                        .push([at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]);
+                }
+            }
+        }
+    }
+    out
+}
