@@ -47,7 +47,6 @@ use super::surface::{segment_distance, Surface};
 use super::unfolding::is_saddle_or_boundary;
 use super::unfolding::Entry;
 use crate::math::{Point3, Real, Vector3};
-use std::collections::BinaryHeap;
 
 /// Relative slack (of the edge length) for a ray crossing an edge at or near its ends.
 const CROSSING_TOLERANCE: Real = 1e-9;
@@ -92,14 +91,22 @@ impl Virtual {
 
 /// The nearest point to `x` of segment `[p, q]`, run on by `reach` (a length) beyond the
 /// ends marked.
+#[inline]
 pub(super) fn foot(x: &Point3, p: &Point3, q: &Point3, extend: [bool; 2], reach: Real) -> Point3 {
     let e = q - p;
     let l2 = e.norm_squared();
     if l2 > 0.0 {
-        let run = reach / l2.sqrt();
-        let lo = if extend[0] { -run } else { 0.0 };
-        let hi = if extend[1] { 1.0 + run } else { 1.0 };
-        p + e * ((x - p).dot(&e) / l2).clamp(lo, hi)
+        let t = (x - p).dot(&e) / l2;
+        let (lo, hi) = if extend == [false; 2] {
+            (0.0, 1.0)
+        } else {
+            let run = reach / l2.sqrt();
+            (
+                if extend[0] { -run } else { 0.0 },
+                if extend[1] { 1.0 + run } else { 1.0 },
+            )
+        };
+        p + e * t.clamp(lo, hi)
     } else {
         *p
     }
@@ -107,16 +114,97 @@ pub(super) fn foot(x: &Point3, p: &Point3, q: &Point3, extend: [bool; 2], reach:
 
 /// `w` rotated by the smallest rotation taking unit `n1` to unit `n2` (Rodrigues, with
 /// `k = n1 × n2`: `R w = c·w + k × w + k (k·w) / (1 + c)`, `c = n1·n2`).
+#[inline]
 pub(super) fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
     let c = n1.dot(n2);
     let k = n1.cross(n2);
     w * c + k.cross(&w) + k * (k.dot(&w) / (1.0 + c))
 }
 
+/// A binary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
+/// in it once at most (a lazy heap holds about two entries a vertex and skips the stale).
+struct Queue {
+    entries: Vec<Entry>,
+    /// Index of each vertex in `entries` (`u32::MAX`: not queued).
+    at: Vec<u32>,
+}
+
+impl Queue {
+    fn new(vertices: usize) -> Self {
+        Queue {
+            entries: Vec::new(),
+            at: vec![u32::MAX; vertices],
+        }
+    }
+
+    fn less(a: &Entry, b: &Entry) -> bool {
+        a.d.total_cmp(&b.d).then(a.v.cmp(&b.v)).is_lt()
+    }
+
+    fn place(&mut self, i: usize, e: Entry) {
+        self.at[e.v as usize] = i as u32;
+        self.entries[i] = e;
+    }
+
+    /// Queues `v` at `d`, or lowers its key to `d` (`d` is never higher than its key).
+    fn push_or_lower(&mut self, v: u32, d: Real) {
+        let e = Entry { d, v };
+        let mut i = match self.at[v as usize] {
+            u32::MAX => {
+                self.entries.push(e);
+                self.entries.len() - 1
+            }
+            i => i as usize,
+        };
+        // Sift up: each step halves i, so at most log2(len) steps.
+        while i > 0 {
+            let parent = (i - 1) / 2;
+            if !Self::less(&e, &self.entries[parent]) {
+                break;
+            }
+            let moved = self.entries[parent];
+            self.place(i, moved);
+            i = parent;
+        }
+        self.place(i, e);
+    }
+
+    fn pop(&mut self) -> Option<Entry> {
+        let top = *self.entries.first()?;
+        self.at[top.v as usize] = u32::MAX;
+        let last = self.entries.pop()?;
+        if !self.entries.is_empty() {
+            // Sift down: each step doubles i, so at most log2(len) steps.
+            let (n, mut i) = (self.entries.len(), 0);
+            loop {
+                let (l, r) = (2 * i + 1, 2 * i + 2);
+                let mut m = i;
+                let mut best = last;
+                if l < n && Self::less(&self.entries[l], &best) {
+                    (m, best) = (l, self.entries[l]);
+                }
+                if r < n && Self::less(&self.entries[r], &best) {
+                    m = r;
+                }
+                if m == i {
+                    break;
+                }
+                let child = self.entries[m];
+                self.place(i, child);
+                i = m;
+            }
+            self.place(i, last);
+        }
+        Some(top)
+    }
+
+    fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+}
+
 pub(super) struct Solver<'a> {
     pub(super) surface: &'a Surface<'a>,
-    /// Unit normal per face.
-    pub(super) normals: Vec<Vector3>,
     pub(super) dist: Vec<Real>,
     pub(super) src: Vec<Virtual>,
     /// How far a source segment runs on beyond an end marked in `extend` (a length).
@@ -125,7 +213,7 @@ pub(super) struct Solver<'a> {
     /// Whether paths may bend at a vertex: 0 not yet known, 1 no, 2 yes (asked rarely, so
     /// found on demand).
     bend: Vec<u8>,
-    heap: BinaryHeap<Entry>,
+    heap: Queue,
 }
 
 impl<'a> Solver<'a> {
@@ -135,15 +223,12 @@ impl<'a> Solver<'a> {
         let nv = mesh.vertex_count();
         Solver {
             surface,
-            normals: (0..mesh.triangle_count())
-                .map(|f| surface.face_normal(f))
-                .collect(),
             dist: vec![Real::INFINITY; nv],
             src: vec![Virtual::point(Point3::origin(), 0.0, 0); nv],
             reach: EXTENSION * surface.mean_edge,
             settled: vec![false; nv],
             bend: vec![0; nv],
-            heap: BinaryHeap::new(),
+            heap: Queue::new(nv),
         }
     }
 
@@ -152,13 +237,10 @@ impl<'a> Solver<'a> {
         let nv = self.dist.len();
         let mut progress = progress;
         let mut done = 0usize;
-        // Each pop either skips a stale entry or settles a vertex; pushes are bounded by the
-        // seeds plus 2 per (settled vertex, incident face), so the loop ends.
-        while let Some(Entry { d, v }) = self.heap.pop() {
+        // Each pop settles a vertex (a vertex is queued only while unsettled, once at most):
+        // at most one pop per vertex, so the loop ends.
+        while let Some(Entry { v, .. }) = self.heap.pop() {
             let v = v as usize;
-            if self.settled[v] || d > self.dist[v] {
-                continue;
-            }
             self.settled[v] = true;
             done += 1;
             if done % PROGRESS_EVERY == 0 {
@@ -172,12 +254,14 @@ impl<'a> Solver<'a> {
 
     /// The source of settled vertex `u` moved into the plane of face `t` (about `u`), or
     /// `None` when the two faces are folded onto each other.
+    #[inline]
     pub(super) fn moved(&self, u: usize, t: usize) -> Option<Virtual> {
         let s = self.src[u];
         if s.face as usize == t {
             return Some(s);
         }
-        let (n1, n2) = (&self.normals[s.face as usize], &self.normals[t]);
+        let normals = &self.surface.face_normals;
+        let (n1, n2) = (&normals[s.face as usize], &normals[t]);
         if n1.dot(n2) <= FOLD_COSINE {
             return None;
         }
@@ -201,6 +285,7 @@ impl<'a> Solver<'a> {
     /// Distance offered to `x` by source `s` (in the plane of face `t`) when the straight
     /// segment from its nearest point to `x` crosses edge `[a, b]` of `t` (opposite `x`). An
     /// offer no better than `x` has is returned unchecked (it changes nothing).
+    #[inline]
     fn offer(&self, s: &Virtual, t: usize, x: usize, a: usize, b: usize) -> Option<Real> {
         let pos = self.surface.mesh.positions();
         let (px, pa, pb) = (pos[x], pos[a], pos[b]);
@@ -210,7 +295,7 @@ impl<'a> Solver<'a> {
         if d >= self.dist[x] {
             return Some(d);
         }
-        let n = &self.normals[t];
+        let n = &self.surface.face_normals[t];
         let e = pb - pa;
         let den = e.cross(&w).dot(n);
         let tol2 = CROSSING_TOLERANCE * CROSSING_TOLERANCE * e.norm_squared();
@@ -237,7 +322,9 @@ impl<'a> Solver<'a> {
         if d < self.dist[x] {
             self.dist[x] = d;
             self.src[x] = s;
-            self.heap.push(Entry { d, v: x as u32 });
+            if !self.settled[x] {
+                self.heap.push_or_lower(x as u32, d);
+            }
         }
     }
 
@@ -290,18 +377,11 @@ pub(crate) fn propagate(
     let mesh = surface.mesh;
     let pos = mesh.positions();
     let nv = mesh.vertex_count();
-    // Worst case: a source, distance and two flags per vertex, a normal per face, and a heap
-    // entry per seed and per offer (two per face corner).
-    let seeds: usize = source.vertices.len()
-        + source
-            .curves
-            .iter()
-            .map(|c| 3 * c.points.len())
-            .sum::<usize>();
-    let heap_entries = (seeds + 6 * surface.faces.len()) as u64;
-    let bytes = nv as u64 * (std::mem::size_of::<Virtual>() as u64 + 10)
+    // Worst case: a source, distance, two flags, a queue entry and its index per vertex,
+    // the face normals (held by the surface) and the focal patches.
+    let per_vertex = std::mem::size_of::<Virtual>() + std::mem::size_of::<Entry>() + 14;
+    let bytes = nv as u64 * per_vertex as u64
         + mesh.triangle_count() as u64 * std::mem::size_of::<Vector3>() as u64
-        + heap_entries * std::mem::size_of::<Entry>() as u64
         + focal::budget(surface.faces.len()) as u64 * focal::BYTES_PER_FACE;
     if bytes > MAX_BYTES {
         return Err(GeodesicError::LimitExceeded(format!(
@@ -336,7 +416,7 @@ pub(crate) fn propagate(
                     let (a, b) = (curve.points[j], curve.points[(j + 1) % n]);
                     let (d, _) = segment_distance(&x, &a, &b);
                     // Run on beyond an end where the curve turns towards x's side.
-                    let normal = &s.normals[f as usize];
+                    let normal = &surface.face_normals[f as usize];
                     let side = normal.cross(&(b - a)).dot(&(x - a));
                     let turns = |from: Option<usize>, to: Option<usize>, at: Point3| {
                         let (Some(i0), Some(i1)) = (from, to) else {
@@ -397,6 +477,19 @@ mod tests {
         // The axis n1 × n2 = y is fixed.
         let y = Vector3::new(0.0, 1.0, 0.0);
         assert!((rotate(y, &n1, &n2) - y).norm() < 1e-15);
+    }
+
+    #[test]
+    fn queue_pops_by_distance_then_id_and_lowers_keys() {
+        let mut q = Queue::new(6);
+        for (v, d) in [(3, 5.0), (1, 2.0), (4, 2.0), (0, 9.0), (5, 7.0)] {
+            q.push_or_lower(v, d);
+        }
+        q.push_or_lower(0, 1.0);
+        q.push_or_lower(5, 2.0);
+        let order: Vec<(u32, Real)> = std::iter::from_fn(|| q.pop().map(|e| (e.v, e.d))).collect();
+        assert_eq!(order, [(0, 1.0), (1, 2.0), (4, 2.0), (5, 2.0), (3, 5.0)]);
+        assert!(q.is_empty() && q.at.iter().all(|&i| i == u32::MAX));
     }
 
     #[test]
