@@ -11,7 +11,7 @@
 //!         focus converges to the same distance with shorter edges.
 //! Input:  a settled [`Solver`] (distance and virtual source per vertex).
 //! Output: the same distances, lowered inside each refined patch to the patch's answer.
-//! Steps:  I. a vertex is focal when the ray directions of its neighbours (foot of the
+//! Steps:  I. a local maximum of the distance is focal when the ray directions of its neighbours (foot of the
 //!            virtual source → vertex, in its tangent plane) wind once around it and point
 //!            inwards: a sink of the direction field lies in its star (a shock between two
 //!            fronts has two directions only and does not wind);
@@ -23,8 +23,8 @@
 //!             inside; a vertex keeps the smaller of its two distances (both are lengths of
 //!             unfolded paths, so the smaller is the better one).
 //!         IV. the same again inside the patch, [`MAX_DEPTH`] levels at most.
-//! Cost:   O(F) for step I (three dot products a face; the star test only at the vertices of
-//!         the rare faces whose directions are 120° apart or more); steps II–IV at most
+//! Cost:   step I tests the stars of the local maxima of the distance only (the propagation
+//!         lists them: vertices settled after all their neighbours); steps II–IV at most
 //!         `budget` subdivided faces in all.
 
 use super::params::GeodesicError;
@@ -44,10 +44,6 @@ pub(super) const RINGS: u8 = 42;
 const MIN_RINGS: u8 = 4;
 /// Nested refinements at most (edges up to 2^depth times shorter at the focus).
 pub(super) const MAX_DEPTH: u32 = 3;
-/// Ray directions whose cosine is above this for every pair of a face's vertices cannot wind
-/// around it (a winding needs two directions at least 120° apart; the slack covers the turn
-/// between the planes of the sources).
-const WINDING_COSINE: Real = -0.4;
 
 /// Subdivided faces allowed in all on a surface of `faces` active faces (no paper: a quarter of
 /// the surface, so the refinement costs at most about a quarter of the propagation, and at
@@ -70,40 +66,15 @@ pub(super) fn refine_focal(
     let surface = s.surface;
     let mesh = surface.mesh;
     let pos = mesh.positions();
-    // Step I: the unit ray direction arriving at each reached vertex (zero at the source).
-    let direction: Vec<Vector3> = (0..mesh.vertex_count())
-        .map(|v| {
-            let src = &s.src[v];
-            if !s.dist[v].is_finite() {
-                return Vector3::zeros();
-            }
-            let w = pos[v] - foot(&pos[v], &src.p, &src.q, src.extend, s.reach);
-            let l = w.norm();
-            if l > 0.0 {
-                w / l
-            } else {
-                Vector3::zeros()
-            }
-        })
+    // Step I, at the local maxima of the distance only (where fronts end: a focus is in the
+    // star of the last vertex of its face to settle).
+    let mut focal: Vec<u32> = s
+        .maxima
+        .iter()
+        .copied()
+        .filter(|&v| is_sink(s, v as usize))
         .collect();
-    // Candidates: the vertices of faces whose directions disagree as a winding needs.
-    let mut candidates: Vec<u32> = Vec::new();
-    for &f in &surface.faces {
-        let t = mesh.triangles()[f as usize];
-        let g = t.map(|v| direction[v as usize]);
-        if g[0].dot(&g[1]) < WINDING_COSINE
-            || g[1].dot(&g[2]) < WINDING_COSINE
-            || g[2].dot(&g[0]) < WINDING_COSINE
-        {
-            candidates.extend(t);
-        }
-    }
-    candidates.sort_unstable();
-    candidates.dedup();
-    let focal: Vec<u32> = candidates
-        .into_iter()
-        .filter(|&v| is_sink(s, &direction, v as usize))
-        .collect();
+    focal.sort_unstable();
     if focal.is_empty() || depth == 0 {
         return Ok(0);
     }
@@ -236,10 +207,24 @@ pub(super) fn refine_focal(
 
 /// Whether the ray directions of the neighbours of interior vertex `v` wind once around it
 /// and point inwards: a focus lies in the star of `v` (on `v`, on an edge or in a face).
-fn is_sink(s: &Solver, direction: &[Vector3], v: usize) -> bool {
+fn is_sink(s: &Solver, v: usize) -> bool {
     let surface = s.surface;
     let mesh = surface.mesh;
     let pos = mesh.positions();
+    // The unit direction of the ray arriving at a reached vertex (zero at the source).
+    let direction = |v: usize| {
+        let src = &s.src[v];
+        if !s.dist[v].is_finite() {
+            return Vector3::zeros();
+        }
+        let w = pos[v] - foot(&pos[v], &src.p, &src.q, src.extend, s.reach);
+        let l = w.norm();
+        if l > 0.0 {
+            w / l
+        } else {
+            Vector3::zeros()
+        }
+    };
     let n = &surface.vertex_normals[v];
     let flat = |g: &Vector3| g - n * n.dot(g);
     let (mut turn, mut inwards) = (0.0, 0.0);
@@ -251,12 +236,12 @@ fn is_sink(s: &Solver, direction: &[Vector3], v: usize) -> bool {
             return false;
         }
         let (a, b) = (t[(k + 1) % 3] as usize, t[(k + 2) % 3] as usize);
-        let (ga, gb) = (flat(&direction[a]), flat(&direction[b]));
+        let (ga, gb) = (flat(&direction(a)), flat(&direction(b)));
         if ga.norm_squared() == 0.0 || gb.norm_squared() == 0.0 {
             return false;
         }
         turn += libm::atan2(ga.cross(&gb).dot(n), ga.dot(&gb));
-        inwards += direction[a].dot(&(pos[v] - pos[a]));
+        inwards += direction(a).dot(&(pos[v] - pos[a]));
     }
     turn.abs() > std::f64::consts::PI && inwards > 0.0
 }

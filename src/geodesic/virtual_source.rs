@@ -214,6 +214,8 @@ pub(super) struct Solver<'a> {
     /// found on demand).
     bend: Vec<u8>,
     heap: Queue,
+    /// Vertices settled after all their neighbours (local maxima of the distance).
+    pub(super) maxima: Vec<u32>,
 }
 
 impl<'a> Solver<'a> {
@@ -229,6 +231,7 @@ impl<'a> Solver<'a> {
             settled: vec![false; nv],
             bend: vec![0; nv],
             heap: Queue::new(nv),
+            maxima: Vec::new(),
         }
     }
 
@@ -333,6 +336,7 @@ impl<'a> Solver<'a> {
         let surface = self.surface;
         let mesh = surface.mesh;
         let pos = mesh.positions();
+        let mut open = false;
         for &t in surface.faces_of(u) {
             let t = t as usize;
             let tri = mesh.triangles()[t];
@@ -341,6 +345,7 @@ impl<'a> Solver<'a> {
             if self.settled[p] && self.settled[q] {
                 continue;
             }
+            open = true;
             let from_u = self.moved(u, t);
             for (x, y) in [(p, q), (q, p)] {
                 if self.settled[x] {
@@ -364,6 +369,10 @@ impl<'a> Solver<'a> {
                     _ => self.improve(x, direct(), at_u),
                 }
             }
+        }
+        if !open && !surface.faces_of(u).is_empty() {
+            // Every neighbour was nearer: a local maximum, where fronts end.
+            self.maxima.push(u as u32);
         }
     }
 }
