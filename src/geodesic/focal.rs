@@ -159,7 +159,12 @@ pub(super) fn refine_focal(
                 continue;
             }
             let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-            let sources: Vec<Virtual> = [a, b].iter().filter_map(|&u| s.moved(u, f)).collect();
+            // Only reached ends carry a source (an unreached one holds a placeholder).
+            let sources: Vec<Virtual> = [a, b]
+                .iter()
+                .filter(|&&u| s.dist[u].is_finite())
+                .filter_map(|&u| s.moved(u, f))
+                .collect();
             for &r in &refined.edge_points[i][k] {
                 let x = pos2[r as usize];
                 let best = sources

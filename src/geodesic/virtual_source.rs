@@ -26,7 +26,7 @@
 //!         shared, loaded machine (the ratio moved that much between runs).
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
 //!         a normal per face, the heap, the focal patches: at most a quarter of the faces
-//!         again), its worst case refused up front above 1 GiB (about 6M triangles): each
+//!         again), its worst case refused up front above 1 GiB (about 7M triangles): each
 //!         vertex is settled once and offers each face around it twice.
 //! Deviations (no paper):
 //!   - A virtual source is a *segment* `[p, q]` (distance `σ + dist(x, [p, q])`): a point
