@@ -19,7 +19,7 @@ fn main() {
     } else {
         vec!["accurate", "fast"]
     };
-    let (s, src, exact): (shapes::Shape, GeodesicSource, Box<dyn Fn(usize) -> Real>);
+    let (mut s, src, exact): (shapes::Shape, GeodesicSource, Box<dyn Fn(usize) -> Real>);
     let t0 = Instant::now();
     if shape == "sphere" {
         let n = 2 * ((target / 12.0).sqrt() / 2.0).round() as usize;
@@ -40,11 +40,22 @@ fn main() {
         src = GeodesicSource::Boundary { loop_index: None };
         exact = Box::new(move |i| 1000.0 * (1.0 - libm::acos((p[i].z / 1000.0).clamp(-1.0, 1.0))));
     }
+    // F32=1: positions rounded to f32, as read from a binary STL (the bench's input).
+    if std::env::var("F32").is_ok() {
+        let p = s
+            .mesh
+            .positions()
+            .iter()
+            .map(|p| p.map(|c| c as f32 as Real))
+            .collect();
+        s = shapes::shape(p, s.mesh.triangles().to_vec());
+    }
     println!(
         "{shape}: {} triangles (built in {:.2} s)",
         s.mesh.triangle_count(),
         t0.elapsed().as_secs_f64()
     );
+    let mut previous: Vec<(String, Vec<Real>)> = Vec::new();
     for m in methods {
         let method = match m {
             "exact" => Method::Exact,
@@ -75,11 +86,71 @@ fn main() {
             d[at],
             exact(at)
         );
+        // BINS=n: the largest error in n bins of the analytic distance.
+        if let Some(n) = std::env::var("BINS")
+            .ok()
+            .and_then(|w| w.parse::<usize>().ok())
+        {
+            let top = (0..d.len()).map(&exact).fold(0.0, Real::max);
+            let mut bins = vec![0.0 as Real; n];
+            for (i, d) in d.iter().enumerate() {
+                let b = ((exact(i) / top * n as Real) as usize).min(n - 1);
+                bins[b] = bins[b].max((d - exact(i)).abs());
+            }
+            for (b, e) in bins.iter().enumerate() {
+                println!(
+                    "    distance {:8.2}..{:8.2}: max error {e:.5}",
+                    b as Real * top / n as Real,
+                    (b + 1) as Real * top / n as Real
+                );
+            }
+        }
+        // WORST=n: the n largest errors, with their analytic distance.
+        if let Some(n) = std::env::var("WORST")
+            .ok()
+            .and_then(|w| w.parse::<usize>().ok())
+        {
+            let mut order: Vec<usize> = (0..d.len()).collect();
+            order.sort_by(|&a, &b| (d[b] - exact(b)).abs().total_cmp(&(d[a] - exact(a)).abs()));
+            for &i in order.iter().take(n) {
+                println!(
+                    "    {:+.5} at distance {:.3}, {:?}",
+                    d[i] - exact(i),
+                    exact(i),
+                    s.mesh.positions()[i]
+                );
+            }
+        }
         println!(
             "{m}: {dt:.3} s, max error {max:.5}, mean {:.5}, windows {} ({:.2} per edge)",
             sum / d.len() as Real,
             f.windows,
             f.windows as Real / (1.5 * s.mesh.triangle_count() as Real)
         );
+        for (name, other) in &previous {
+            let (mut diff, mut at) = (0.0, 0);
+            for (i, (a, b)) in d.iter().zip(other).enumerate() {
+                if (a - b).abs() > diff {
+                    (diff, at) = ((a - b).abs(), i);
+                }
+            }
+            println!(
+                "  max |{m} − {name}| {diff:.5} at distance {:.3}",
+                exact(at)
+            );
+            // FOCUS=r: the largest difference within r of the farthest point (the focus).
+            if let Some(r) = std::env::var("FOCUS")
+                .ok()
+                .and_then(|w| w.parse::<Real>().ok())
+            {
+                let top = (0..d.len()).map(&exact).fold(0.0, Real::max);
+                let near = (0..d.len())
+                    .filter(|&i| exact(i) > top - r)
+                    .map(|i| (d[i] - other[i]).abs())
+                    .fold(0.0, Real::max);
+                println!("  within {r} of the focus: max |{m} − {name}| {near:.5}");
+            }
+        }
+        previous.push((m.to_string(), d.clone()));
     }
 }

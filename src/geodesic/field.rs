@@ -16,7 +16,7 @@
 use super::iso_lines::{contour, IsoLine};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
 use super::source::{resolve, GeodesicSource};
-use super::surface::{FaceGrid, Surface};
+use super::surface::Surface;
 use super::voxel::{propagate as voxel_propagate, voxelise, VoxelField};
 use super::voxel_paths::order_level;
 use crate::math::{Real, Vector3};
@@ -63,7 +63,8 @@ pub fn geodesic_distance(
     progress: Progress,
 ) -> Result<DistanceField, GeodesicError> {
     let surface = Surface::new(mesh, adjacency, params.faces.as_deref())?;
-    let grid = FaceGrid::new(&surface);
+    // Built only for sources that need snapping (points, plane sections).
+    let grid = std::cell::OnceCell::new();
     let max_snap = match params.max_snap_distance {
         Some(m) => {
             super::params::positive("maxSnapDistance", m)?;

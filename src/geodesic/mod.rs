@@ -7,6 +7,7 @@
 
 mod exact;
 mod field;
+mod focal;
 mod iso_lines;
 mod params;
 mod source;

@@ -12,7 +12,7 @@ use super::iso_lines::contour;
 use super::params::GeodesicError;
 use super::surface::{FaceGrid, Surface};
 use crate::math::{Point3, Real, Vector3};
-use std::collections::HashMap;
+use std::cell::OnceCell;
 
 /// Where the distance is measured from.
 #[derive(Clone, Debug, PartialEq)]
@@ -66,21 +66,39 @@ impl ResolvedSource {
 /// Boundary loops of the active faces as vertex ids, longest first; a loop is closed
 /// (its last vertex joins its first) unless the boundary is pinched in a way that breaks it.
 pub(crate) fn boundary_loops(surface: &Surface) -> Vec<Vec<u32>> {
+    boundary_loops_with_faces(surface)
+        .into_iter()
+        .map(|l| l.vertices)
+        .collect()
+}
+
+/// A boundary loop: its vertices, the face of the edge from each to the next, and whether
+/// the last vertex joins the first along a boundary edge.
+pub(crate) struct BoundaryLoop {
+    pub vertices: Vec<u32>,
+    pub faces: Vec<u32>,
+    pub closed: bool,
+}
+
+/// [`boundary_loops`] with the face of each edge.
+fn boundary_loops_with_faces(surface: &Surface) -> Vec<BoundaryLoop> {
     let mesh = surface.mesh;
-    let mut edges: Vec<(u32, u32)> = Vec::new();
+    let mut edges: Vec<(u32, u32, u32)> = Vec::new();
     for &f in &surface.faces {
         let t = mesh.triangles()[f as usize];
         for k in 0..3 {
             if surface.across(f as usize, k).is_none() {
-                edges.push((t[k], t[(k + 1) % 3]));
+                edges.push((t[k], t[(k + 1) % 3], f));
             }
         }
     }
+    // Sorted by start vertex: the edges leaving a vertex are a contiguous run.
     edges.sort_unstable();
-    let mut by_start: HashMap<u32, Vec<usize>> = HashMap::new();
-    for (i, e) in edges.iter().enumerate() {
-        by_start.entry(e.0).or_default().push(i);
-    }
+    let leaving = |v: u32| {
+        let lo = edges.partition_point(|e| e.0 < v);
+        let hi = edges.partition_point(|e| e.0 <= v);
+        lo..hi
+    };
     let mut used = vec![false; edges.len()];
     let mut loops = Vec::new();
     for first in 0..edges.len() {
@@ -89,33 +107,68 @@ pub(crate) fn boundary_loops(surface: &Surface) -> Vec<Vec<u32>> {
         }
         used[first] = true;
         let start = edges[first].0;
-        let mut lp = vec![start];
+        let mut lp = BoundaryLoop {
+            vertices: vec![start],
+            faces: vec![edges[first].2],
+            closed: true,
+        };
         let mut at = edges[first].1;
         // Each step uses a new edge: at most `edges.len()` steps.
         while at != start {
-            lp.push(at);
-            let next = by_start
-                .get(&at)
-                .and_then(|list| list.iter().copied().find(|&i| !used[i]));
-            match next {
+            lp.vertices.push(at);
+            match leaving(at).find(|&i| !used[i]) {
                 Some(i) => {
                     used[i] = true;
+                    lp.faces.push(edges[i].2);
                     at = edges[i].1;
                 }
-                None => break,
+                None => {
+                    lp.closed = false;
+                    break;
+                }
             }
         }
         loops.push(lp);
     }
-    let length = |lp: &Vec<u32>| -> Real {
+    let length = |lp: &BoundaryLoop| -> Real {
         let p = mesh.positions();
-        (0..lp.len())
-            .map(|i| (p[lp[(i + 1) % lp.len()] as usize] - p[lp[i] as usize]).norm())
+        let v = &lp.vertices;
+        (0..v.len())
+            .map(|i| (p[v[(i + 1) % v.len()] as usize] - p[v[i] as usize]).norm())
             .sum()
     };
-    let mut keyed: Vec<(Real, Vec<u32>)> = loops.into_iter().map(|l| (length(&l), l)).collect();
-    keyed.sort_by(|a, b| b.0.total_cmp(&a.0).then_with(|| a.1.cmp(&b.1)));
+    let mut keyed: Vec<(Real, BoundaryLoop)> = loops.into_iter().map(|l| (length(&l), l)).collect();
+    keyed.sort_by(|a, b| {
+        b.0.total_cmp(&a.0)
+            .then_with(|| a.1.vertices.cmp(&b.1.vertices))
+    });
     keyed.into_iter().map(|(_, l)| l).collect()
+}
+
+/// A closed boundary loop as a source curve, each edge cut into pieces of at most `step`:
+/// the samples lie on the loop's edges, so they need no snapping.
+fn boundary_curve(surface: &Surface, lp: &BoundaryLoop, step: Real) -> Curve {
+    let p = surface.mesh.positions();
+    let n = lp.vertices.len();
+    let mut curve = Curve {
+        points: Vec::new(),
+        faces: Vec::new(),
+        closed: true,
+    };
+    for i in 0..n {
+        let (a, b) = (
+            p[lp.vertices[i] as usize],
+            p[lp.vertices[(i + 1) % n] as usize],
+        );
+        let pieces = ((b - a).norm() / step).ceil().max(1.0) as usize;
+        for j in 0..pieces {
+            curve
+                .points
+                .push(a + (b - a) * (j as Real / pieces as Real));
+            curve.faces.push(lp.faces[i]);
+        }
+    }
+    curve
 }
 
 /// Snaps `points` to the surface and subdivides every segment to at most `step`.
@@ -180,12 +233,13 @@ fn snap_polyline(
 /// Turns a [`GeodesicSource`] into dense on-surface curves and vertices.
 pub(crate) fn resolve(
     surface: &Surface,
-    grid: &FaceGrid,
+    grid: &OnceCell<FaceGrid>,
     source: &GeodesicSource,
     step: Real,
     max_snap: Real,
 ) -> Result<ResolvedSource, GeodesicError> {
     let mesh = surface.mesh;
+    let grid = || grid.get_or_init(|| FaceGrid::new(surface));
     let mut out = ResolvedSource::default();
     match source {
         GeodesicSource::Polyline { points, closed } => {
@@ -195,7 +249,12 @@ pub(crate) fn resolve(
                 ));
             }
             out.curves.push(snap_polyline(
-                surface, grid, points, *closed, step, max_snap,
+                surface,
+                grid(),
+                points,
+                *closed,
+                step,
+                max_snap,
             )?);
         }
         GeodesicSource::Vertices(vs) => {
@@ -220,13 +279,13 @@ pub(crate) fn resolve(
             out.vertices.dedup();
         }
         GeodesicSource::Boundary { loop_index } => {
-            let loops = boundary_loops(surface);
+            let loops = boundary_loops_with_faces(surface);
             if loops.is_empty() {
                 return Err(GeodesicError::BadSource(
                     "the surface is closed: it has no boundary loop".into(),
                 ));
             }
-            let chosen: Vec<&Vec<u32>> = match loop_index {
+            let chosen: Vec<&BoundaryLoop> = match loop_index {
                 None => loops.iter().collect(),
                 Some(i) => vec![loops.get(*i).ok_or_else(|| {
                     GeodesicError::BadSource(format!(
@@ -236,9 +295,15 @@ pub(crate) fn resolve(
                 })?],
             };
             for lp in chosen {
-                let pts: Vec<Point3> = lp.iter().map(|&v| mesh.positions()[v as usize]).collect();
-                out.curves
-                    .push(snap_polyline(surface, grid, &pts, true, step, max_snap)?);
+                if lp.closed {
+                    out.curves.push(boundary_curve(surface, lp, step));
+                } else {
+                    // A loop broken at a pinch: its closing chord is snapped like any polyline.
+                    let p = mesh.positions();
+                    let pts: Vec<Point3> = lp.vertices.iter().map(|&v| p[v as usize]).collect();
+                    out.curves
+                        .push(snap_polyline(surface, grid(), &pts, true, step, max_snap)?);
+                }
             }
         }
         GeodesicSource::Plane { point, normal } => {
@@ -271,7 +336,7 @@ pub(crate) fn resolve(
             };
             out.curves.push(snap_polyline(
                 surface,
-                grid,
+                grid(),
                 &line.points,
                 line.closed,
                 step,

@@ -27,6 +27,8 @@ pub(crate) struct Surface<'a> {
     vertex_faces: Vec<u32>,
     /// Unit area-weighted vertex normals (zero for vertices of no active face).
     pub vertex_normals: Vec<Vector3>,
+    /// Unit face normals of the active faces ([`Surface::face_normal`]; +z for the others).
+    pub face_normals: Vec<Vector3>,
     /// Mean active edge length.
     pub mean_edge: Real,
     /// Total active area.
@@ -75,11 +77,16 @@ impl<'a> Surface<'a> {
         let mut fill = vertex_face_start.clone();
         let mut vertex_faces = vec![0u32; faces.len() * 3];
         let mut normals = vec![Vector3::zeros(); nv];
+        let mut face_normals = vec![Vector3::z(); nf];
         let (mut edge_sum, mut area) = (0.0, 0.0);
         for &f in &faces {
             let t = mesh.triangles()[f as usize];
             let n = mesh.scaled_normal(f as usize);
-            area += 0.5 * n.norm();
+            let len = n.norm();
+            area += 0.5 * len;
+            if len > 0.0 {
+                face_normals[f as usize] = n / len;
+            }
             let p = mesh.corners(f as usize);
             edge_sum += (p[1] - p[0]).norm() + (p[2] - p[1]).norm() + (p[0] - p[2]).norm();
             for v in t {
@@ -103,6 +110,7 @@ impl<'a> Surface<'a> {
             vertex_face_start,
             vertex_faces,
             vertex_normals: normals,
+            face_normals,
             area,
         })
     }

@@ -273,6 +273,24 @@ pub(crate) fn propagate(
 
 /// Vertices with a total face angle above 2π (saddles) or on the boundary of the active
 /// faces: the only vertices a shortest path may bend at.
+/// Whether shortest paths may bend at `v`: a boundary vertex, or one whose angles sum to
+/// more than 2π (a saddle). The per-vertex form of [`saddle_or_boundary_vertices`].
+pub(super) fn is_saddle_or_boundary(surface: &Surface, v: usize) -> bool {
+    let mesh = surface.mesh;
+    let mut angle = 0.0;
+    for &f in surface.faces_of(v) {
+        let f = f as usize;
+        let t = mesh.triangles()[f];
+        let p = mesh.corners(f);
+        let k = t.iter().position(|&x| x as usize == v).unwrap_or(0);
+        if surface.across(f, k).is_none() || surface.across(f, (k + 2) % 3).is_none() {
+            return true;
+        }
+        angle += angle_between(&(p[(k + 1) % 3] - p[k]), &(p[(k + 2) % 3] - p[k]));
+    }
+    angle > 2.0 * std::f64::consts::PI * (1.0 + FLAT_VERTEX_TOLERANCE)
+}
+
 pub(super) fn saddle_or_boundary_vertices(surface: &Surface) -> Vec<bool> {
     let mesh = surface.mesh;
     let nv = mesh.vertex_count();

@@ -13,25 +13,27 @@
 //! Output: distance per vertex (`+∞` for vertices not reached), 0 on the source. Exact on
 //!         cylinders and folded plates (every move of a source is an unfolding there);
 //!         on doubly curved ones the error is second order in the edge length away from focal
-//!         points, first order near them (where fronts from a continuum of directions meet: the
-//!         pole of a cap measured from its rim, the antipode of a point source on a sphere),
-//!         because a vertex there is offered only its neighbours' sources. The tests check both
-//!         orders. Measured (`npm run bench -- geodesic`: WebAssembly in Node beside native
-//!         fast marching, potpourri3d 1.4.0; max / mean error in mm against the analytic
-//!         distance): cap R 1000 from its rim, 500k triangles 0.22 (at the pole) / 0.0014,
-//!         2M 0.14 / 0.0004 (fast marching 1.8 / 0.10 and 1.0 / 0.05); sphere R 100 from a
-//!         point, 500k 0.084 (at the antipode) / 0.0005, 2M 0.025 / 0.00014 (fast marching
-//!         3.0 / 1.3 and 2.9 / 1.2); time 0.7–2.0× fast marching's solve (runs on a shared
-//!         machine), 1.2–1.6× the fast method's.
+//!         points. Near them (where fronts from a continuum of directions meet: the pole of a
+//!         cap measured from its rim, the antipode of a point source on a sphere) a vertex is
+//!         offered only its neighbours' sources, whose rays miss it: first order there, so
+//!         `focal.rs` reruns the propagation on nested subdivided patches around such points.
+//!         The tests check the orders and the focal error. Measured (`npm run bench --
+//!         geodesic`: WebAssembly in Node beside native fast marching, potpourri3d 1.4.0; max
+//!         / mean error in mm against the analytic distance): cap R 1000 from its rim, 500k
+//!         triangles 0.033 / 0.0012, 2M 0.020 / 0.0003 (fast marching 1.8 / 0.10 and
+//!         1.0 / 0.05); sphere R 100 from a point, 500k 0.0096 / 0.0005, 2M 0.0051 / 0.00013
+//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.9–2.1× fast marching's solve on a
+//!         shared, loaded machine (the ratio moved that much between runs).
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
-//!         a normal per face, the heap), its worst case refused up front above 1 GiB (about
-//!         7M triangles): each vertex is settled once and offers each face around it twice.
+//!         a normal per face, the heap, the focal patches: at most a quarter of the faces
+//!         again), its worst case refused up front above 1 GiB (about 7M triangles): each
+//!         vertex is settled once and offers each face around it twice.
 //! Deviations (no paper):
 //!   - A virtual source is a *segment* `[p, q]` (distance `σ + dist(x, [p, q])`): a point
 //!     when `p = q`, the straight piece of a source curve nearest to the vertex otherwise, so
 //!     curve sources (a boundary, a plane section) are propagated as well as points; a piece
-//!     runs on by one length beyond an end where the curve turns towards the vertex's side
-//!     (see [`EXTENSION`]).
+//!     runs on by one mean edge beyond an end where the curve turns towards the vertex's
+//!     side (see [`EXTENSION`]).
 //!   - A source is moved from the plane of one face around vertex `u` to another by the
 //!     smallest rotation about `u` taking one normal to the other (Rodrigues), not by
 //!     unfolding the faces between (the two differ by the angle defect of the part of the fan
@@ -43,13 +45,13 @@
 //!     point source with `σ = d(u)` (exact at saddle and boundary vertices, where shortest
 //!     paths bend; an upper bound elsewhere).
 
+use super::focal;
 use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
 use super::source::ResolvedSource;
 use super::surface::{segment_distance, Surface};
-use super::unfolding::saddle_or_boundary_vertices;
+use super::unfolding::is_saddle_or_boundary;
 use super::unfolding::Entry;
 use crate::math::{Point3, Real, Vector3};
-use std::collections::BinaryHeap;
 
 /// Relative slack (of the edge length) for a ray crossing an edge at or near its ends.
 const CROSSING_TOLERANCE: Real = 1e-9;
@@ -57,35 +59,59 @@ const CROSSING_TOLERANCE: Real = 1e-9;
 const SEED_WINDOW: usize = 4;
 /// Faces whose normals are closer to opposite than this (cosine) do not pass sources.
 const FOLD_COSINE: Real = -0.999;
-/// How far (in its own lengths) a piece of a source curve runs on beyond an end where the
+/// How far (in mean edge lengths) a piece of a source curve runs on beyond an end where the
 /// curve turns towards the side it serves (no paper: on that side the nearest point of the
 /// curve to a vertex beyond the end lies on the next piece, which the vertex may not be
-/// offered; running on a little recovers it, running on far makes a wavy curve seem nearer
-/// than it is. One length measured best on the tests' cap and height field).
+/// offered; its neighbours' pieces lie up to an edge away, so running on by less leaves
+/// the vertex the end of a piece (0.11 mm too far on the 500k cap with half an edge), and
+/// running on far makes a wavy curve seem nearer than it is).
 const EXTENSION: Real = 1.0;
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
 
 /// A virtual source: distance `sigma + dist(x, [p, q])`, lying in the plane of `face`; the
-/// segment runs on by [`EXTENSION`] of its length beyond `p` (`extend[0]`) or `q`
+/// segment runs on by the solver's `reach` beyond `p` (`extend[0]`) or `q`
 /// (`extend[1]`) where the source curve turns towards the side it serves.
 #[derive(Clone, Copy, Debug)]
-struct Virtual {
-    p: Point3,
-    q: Point3,
-    sigma: Real,
-    face: u32,
-    extend: [bool; 2],
+pub(super) struct Virtual {
+    pub(super) p: Point3,
+    pub(super) q: Point3,
+    pub(super) sigma: Real,
+    pub(super) face: u32,
+    pub(super) extend: [bool; 2],
 }
 
-/// The nearest point to `x` of segment `[p, q]`, run on by [`EXTENSION`] beyond the ends marked.
-fn foot(x: &Point3, p: &Point3, q: &Point3, extend: [bool; 2]) -> Point3 {
+impl Virtual {
+    /// A point source at `p` with offset `sigma`, in the plane of `face`.
+    pub(super) fn point(p: Point3, sigma: Real, face: u32) -> Self {
+        Virtual {
+            p,
+            q: p,
+            sigma,
+            face,
+            extend: [false; 2],
+        }
+    }
+}
+
+/// The nearest point to `x` of segment `[p, q]`, run on by `reach` (a length) beyond the
+/// ends marked.
+#[inline]
+pub(super) fn foot(x: &Point3, p: &Point3, q: &Point3, extend: [bool; 2], reach: Real) -> Point3 {
     let e = q - p;
     let l2 = e.norm_squared();
     if l2 > 0.0 {
-        let lo = if extend[0] { -EXTENSION } else { 0.0 };
-        let hi = if extend[1] { 1.0 + EXTENSION } else { 1.0 };
-        p + e * ((x - p).dot(&e) / l2).clamp(lo, hi)
+        let t = (x - p).dot(&e) / l2;
+        let (lo, hi) = if extend == [false; 2] {
+            (0.0, 1.0)
+        } else {
+            let run = reach / l2.sqrt();
+            (
+                if extend[0] { -run } else { 0.0 },
+                if extend[1] { 1.0 + run } else { 1.0 },
+            )
+        };
+        p + e * t.clamp(lo, hi)
     } else {
         *p
     }
@@ -93,31 +119,157 @@ fn foot(x: &Point3, p: &Point3, q: &Point3, extend: [bool; 2]) -> Point3 {
 
 /// `w` rotated by the smallest rotation taking unit `n1` to unit `n2` (Rodrigues, with
 /// `k = n1 × n2`: `R w = c·w + k × w + k (k·w) / (1 + c)`, `c = n1·n2`).
-fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
+#[inline]
+pub(super) fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
     let c = n1.dot(n2);
     let k = n1.cross(n2);
     w * c + k.cross(&w) + k * (k.dot(&w) / (1.0 + c))
 }
 
-struct Solver<'a> {
-    surface: &'a Surface<'a>,
-    normals: Vec<Vector3>,
-    dist: Vec<Real>,
-    src: Vec<Virtual>,
-    settled: Vec<bool>,
-    bend: Vec<bool>,
-    heap: BinaryHeap<Entry>,
+/// A binary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
+/// in it once at most (a lazy heap holds about two entries a vertex and skips the stale).
+struct Queue {
+    entries: Vec<Entry>,
+    /// Index of each vertex in `entries` (`u32::MAX`: not queued).
+    at: Vec<u32>,
 }
 
-impl Solver<'_> {
+impl Queue {
+    fn new(vertices: usize) -> Self {
+        Queue {
+            entries: Vec::new(),
+            at: vec![u32::MAX; vertices],
+        }
+    }
+
+    fn less(a: &Entry, b: &Entry) -> bool {
+        a.d.total_cmp(&b.d).then(a.v.cmp(&b.v)).is_lt()
+    }
+
+    fn place(&mut self, i: usize, e: Entry) {
+        self.at[e.v as usize] = i as u32;
+        self.entries[i] = e;
+    }
+
+    /// Queues `v` at `d`, or lowers its key to `d` (`d` is never higher than its key).
+    fn push_or_lower(&mut self, v: u32, d: Real) {
+        let e = Entry { d, v };
+        let mut i = match self.at[v as usize] {
+            u32::MAX => {
+                self.entries.push(e);
+                self.entries.len() - 1
+            }
+            i => i as usize,
+        };
+        // Sift up: each step halves i, so at most log2(len) steps.
+        while i > 0 {
+            let parent = (i - 1) / 2;
+            if !Self::less(&e, &self.entries[parent]) {
+                break;
+            }
+            let moved = self.entries[parent];
+            self.place(i, moved);
+            i = parent;
+        }
+        self.place(i, e);
+    }
+
+    fn pop(&mut self) -> Option<Entry> {
+        let top = *self.entries.first()?;
+        self.at[top.v as usize] = u32::MAX;
+        let last = self.entries.pop()?;
+        if !self.entries.is_empty() {
+            // Sift down: each step doubles i, so at most log2(len) steps.
+            let (n, mut i) = (self.entries.len(), 0);
+            loop {
+                let (l, r) = (2 * i + 1, 2 * i + 2);
+                let mut m = i;
+                let mut best = last;
+                if l < n && Self::less(&self.entries[l], &best) {
+                    (m, best) = (l, self.entries[l]);
+                }
+                if r < n && Self::less(&self.entries[r], &best) {
+                    m = r;
+                }
+                if m == i {
+                    break;
+                }
+                let child = self.entries[m];
+                self.place(i, child);
+                i = m;
+            }
+            self.place(i, last);
+        }
+        Some(top)
+    }
+
+    fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+}
+
+pub(super) struct Solver<'a> {
+    pub(super) surface: &'a Surface<'a>,
+    pub(super) dist: Vec<Real>,
+    pub(super) src: Vec<Virtual>,
+    /// How far a source segment runs on beyond an end marked in `extend` (a length).
+    pub(super) reach: Real,
+    settled: Vec<bool>,
+    /// Whether paths may bend at a vertex: 0 not yet known, 1 no, 2 yes (asked rarely, so
+    /// found on demand).
+    bend: Vec<u8>,
+    heap: Queue,
+    /// Vertices settled after all their neighbours (local maxima of the distance).
+    pub(super) maxima: Vec<u32>,
+}
+
+impl<'a> Solver<'a> {
+    /// Nothing reached yet on `surface`.
+    pub(super) fn new(surface: &'a Surface<'a>) -> Self {
+        let mesh = surface.mesh;
+        let nv = mesh.vertex_count();
+        Solver {
+            surface,
+            dist: vec![Real::INFINITY; nv],
+            src: vec![Virtual::point(Point3::origin(), 0.0, 0); nv],
+            reach: EXTENSION * surface.mean_edge,
+            settled: vec![false; nv],
+            bend: vec![0; nv],
+            heap: Queue::new(nv),
+            maxima: Vec::new(),
+        }
+    }
+
+    /// Settles every vertex reachable from the seeds, nearest first.
+    pub(super) fn run(&mut self, progress: Option<Progress>) {
+        let nv = self.dist.len();
+        let mut progress = progress;
+        let mut done = 0usize;
+        // Each pop settles a vertex (a vertex is queued only while unsettled, once at most):
+        // at most one pop per vertex, so the loop ends.
+        while let Some(Entry { v, .. }) = self.heap.pop() {
+            let v = v as usize;
+            self.settled[v] = true;
+            done += 1;
+            if done % PROGRESS_EVERY == 0 {
+                if let Some(p) = progress.as_mut() {
+                    p("distance", done as f64 / nv as f64);
+                }
+            }
+            self.settle(v);
+        }
+    }
+
     /// The source of settled vertex `u` moved into the plane of face `t` (about `u`), or
     /// `None` when the two faces are folded onto each other.
-    fn moved(&self, u: usize, t: usize) -> Option<Virtual> {
+    #[inline]
+    pub(super) fn moved(&self, u: usize, t: usize) -> Option<Virtual> {
         let s = self.src[u];
         if s.face as usize == t {
             return Some(s);
         }
-        let (n1, n2) = (&self.normals[s.face as usize], &self.normals[t]);
+        let normals = &self.surface.face_normals;
+        let (n1, n2) = (&normals[s.face as usize], &normals[t]);
         if n1.dot(n2) <= FOLD_COSINE {
             return None;
         }
@@ -141,16 +293,17 @@ impl Solver<'_> {
     /// Distance offered to `x` by source `s` (in the plane of face `t`) when the straight
     /// segment from its nearest point to `x` crosses edge `[a, b]` of `t` (opposite `x`). An
     /// offer no better than `x` has is returned unchecked (it changes nothing).
+    #[inline]
     fn offer(&self, s: &Virtual, t: usize, x: usize, a: usize, b: usize) -> Option<Real> {
         let pos = self.surface.mesh.positions();
         let (px, pa, pb) = (pos[x], pos[a], pos[b]);
-        let f = foot(&px, &s.p, &s.q, s.extend);
+        let f = foot(&px, &s.p, &s.q, s.extend, self.reach);
         let w = px - f;
         let d = s.sigma + w.norm();
         if d >= self.dist[x] {
             return Some(d);
         }
-        let n = &self.normals[t];
+        let n = &self.surface.face_normals[t];
         let e = pb - pa;
         let den = e.cross(&w).dot(n);
         let tol2 = CROSSING_TOLERANCE * CROSSING_TOLERANCE * e.norm_squared();
@@ -166,11 +319,20 @@ impl Solver<'_> {
         (within.contains(&lambda) && within.contains(&tau)).then_some(d)
     }
 
-    fn improve(&mut self, x: usize, d: Real, s: Virtual) {
+    fn bends_at(&mut self, u: usize) -> bool {
+        if self.bend[u] == 0 {
+            self.bend[u] = 1 + is_saddle_or_boundary(self.surface, u) as u8;
+        }
+        self.bend[u] == 2
+    }
+
+    pub(super) fn improve(&mut self, x: usize, d: Real, s: Virtual) {
         if d < self.dist[x] {
             self.dist[x] = d;
             self.src[x] = s;
-            self.heap.push(Entry { d, v: x as u32 });
+            if !self.settled[x] {
+                self.heap.push_or_lower(x as u32, d);
+            }
         }
     }
 
@@ -179,6 +341,7 @@ impl Solver<'_> {
         let surface = self.surface;
         let mesh = surface.mesh;
         let pos = mesh.positions();
+        let mut open = false;
         for &t in surface.faces_of(u) {
             let t = t as usize;
             let tri = mesh.triangles()[t];
@@ -187,6 +350,7 @@ impl Solver<'_> {
             if self.settled[p] && self.settled[q] {
                 continue;
             }
+            open = true;
             let from_u = self.moved(u, t);
             for (x, y) in [(p, q), (q, p)] {
                 if self.settled[x] {
@@ -204,18 +368,16 @@ impl Solver<'_> {
                 // boundary vertices; elsewhere only when no unfolded ray reaches x).
                 let (du, ux) = (self.dist[u], pos[x] - pos[u]);
                 let direct = || du + ux.norm();
-                let at_u = Virtual {
-                    p: pos[u],
-                    q: pos[u],
-                    sigma: self.dist[u],
-                    face: t as u32,
-                    extend: [false; 2],
-                };
+                let at_u = Virtual::point(pos[u], self.dist[u], t as u32);
                 match best {
-                    Some((d, s)) if !(self.bend[u] && direct() < d) => self.improve(x, d, s),
+                    Some((d, s)) if !(direct() < d && self.bends_at(u)) => self.improve(x, d, s),
                     _ => self.improve(x, direct(), at_u),
                 }
             }
+        }
+        if !open && !surface.faces_of(u).is_empty() {
+            // Every neighbour was nearer: a local maximum, where fronts end.
+            self.maxima.push(u as u32);
         }
     }
 }
@@ -229,54 +391,23 @@ pub(crate) fn propagate(
     let mesh = surface.mesh;
     let pos = mesh.positions();
     let nv = mesh.vertex_count();
-    // Worst case: a source, distance and two flags per vertex, a normal per face, and a heap
-    // entry per seed and per offer (two per face corner).
-    let seeds: usize = source.vertices.len()
-        + source
-            .curves
-            .iter()
-            .map(|c| 3 * c.points.len())
-            .sum::<usize>();
-    let heap_entries = (seeds + 6 * surface.faces.len()) as u64;
-    let bytes = nv as u64 * (std::mem::size_of::<Virtual>() as u64 + 10)
+    // Worst case: a source, distance, two flags, a queue entry and its index per vertex,
+    // the face normals (held by the surface) and the focal patches.
+    let per_vertex = std::mem::size_of::<Virtual>() + std::mem::size_of::<Entry>() + 14;
+    let bytes = nv as u64 * per_vertex as u64
         + mesh.triangle_count() as u64 * std::mem::size_of::<Vector3>() as u64
-        + heap_entries * std::mem::size_of::<Entry>() as u64;
+        + focal::budget(surface.faces.len()) as u64 * focal::BYTES_PER_FACE;
     if bytes > MAX_BYTES {
         return Err(GeodesicError::LimitExceeded(format!(
             "the accurate method would need up to {bytes} bytes on this mesh, over its limit of \
              {MAX_BYTES} bytes; use the fast method or a patch"
         )));
     }
-    let normals = (0..mesh.triangle_count())
-        .map(|f| surface.face_normal(f))
-        .collect();
-    let nowhere = Virtual {
-        p: Point3::origin(),
-        q: Point3::origin(),
-        sigma: 0.0,
-        face: 0,
-        extend: [false; 2],
-    };
-    let mut s = Solver {
-        surface,
-        normals,
-        dist: vec![Real::INFINITY; nv],
-        src: vec![nowhere; nv],
-        settled: vec![false; nv],
-        bend: saddle_or_boundary_vertices(surface),
-        heap: BinaryHeap::new(),
-    };
+    let mut s = Solver::new(surface);
     for &v in &source.vertices {
         let v = v as usize;
         let face = surface.faces_of(v).first().copied().unwrap_or(0);
-        let at = Virtual {
-            p: pos[v],
-            q: pos[v],
-            sigma: 0.0,
-            face,
-            extend: [false; 2],
-        };
-        s.improve(v, 0.0, at);
+        s.improve(v, 0.0, Virtual::point(pos[v], 0.0, face));
     }
     for curve in &source.curves {
         let n = curve.points.len();
@@ -299,7 +430,7 @@ pub(crate) fn propagate(
                     let (a, b) = (curve.points[j], curve.points[(j + 1) % n]);
                     let (d, _) = segment_distance(&x, &a, &b);
                     // Run on beyond an end where the curve turns towards x's side.
-                    let normal = &s.normals[f as usize];
+                    let normal = &surface.face_normals[f as usize];
                     let side = normal.cross(&(b - a)).dot(&(x - a));
                     let turns = |from: Option<usize>, to: Option<usize>, at: Point3| {
                         let (Some(i0), Some(i1)) = (from, to) else {
@@ -332,21 +463,13 @@ pub(crate) fn propagate(
             "no vertex could be seeded from the source".into(),
         ));
     }
-    let mut done = 0usize;
-    // Each pop either skips a stale entry or settles a vertex; pushes are bounded by the
-    // seeds plus 2 per (settled vertex, incident face), so the loop ends.
-    while let Some(Entry { d, v }) = s.heap.pop() {
-        let v = v as usize;
-        if s.settled[v] || d > s.dist[v] {
-            continue;
-        }
-        s.settled[v] = true;
-        done += 1;
-        if done % PROGRESS_EVERY == 0 {
-            progress("distance", done as f64 / nv as f64);
-        }
-        s.settle(v);
-    }
+    s.run(Some(&mut *progress));
+    focal::refine_focal(
+        &mut s,
+        focal::budget(surface.faces.len()),
+        focal::MAX_DEPTH,
+        focal::RINGS,
+    )?;
     progress("distance", 1.0);
     Ok(s.dist)
 }
@@ -371,18 +494,31 @@ mod tests {
     }
 
     #[test]
+    fn queue_pops_by_distance_then_id_and_lowers_keys() {
+        let mut q = Queue::new(6);
+        for (v, d) in [(3, 5.0), (1, 2.0), (4, 2.0), (0, 9.0), (5, 7.0)] {
+            q.push_or_lower(v, d);
+        }
+        q.push_or_lower(0, 1.0);
+        q.push_or_lower(5, 2.0);
+        let order: Vec<(u32, Real)> = std::iter::from_fn(|| q.pop().map(|e| (e.v, e.d))).collect();
+        assert_eq!(order, [(0, 1.0), (1, 2.0), (4, 2.0), (5, 2.0), (3, 5.0)]);
+        assert!(q.is_empty() && q.at.iter().all(|&i| i == u32::MAX));
+    }
+
+    #[test]
     fn foot_is_the_nearest_point_of_the_segment() {
         let (p, q) = (Point3::new(0.0, 0.0, 0.0), Point3::new(2.0, 0.0, 0.0));
-        let no = [false; 2];
+        let (no, reach) = ([false; 2], 1.5);
         assert_eq!(
-            foot(&Point3::new(1.0, 3.0, 0.0), &p, &q, no),
+            foot(&Point3::new(1.0, 3.0, 0.0), &p, &q, no, reach),
             Point3::new(1.0, 0.0, 0.0)
         );
-        assert_eq!(foot(&Point3::new(-1.0, 3.0, 0.0), &p, &q, no), p);
-        assert_eq!(foot(&Point3::new(5.0, 1.0, 0.0), &p, &p, no), p);
-        let on = foot(&Point3::new(-1.0, 3.0, 0.0), &p, &q, [true, false]);
+        assert_eq!(foot(&Point3::new(-1.0, 3.0, 0.0), &p, &q, no, reach), p);
+        assert_eq!(foot(&Point3::new(5.0, 1.0, 0.0), &p, &p, no, reach), p);
+        let on = foot(&Point3::new(-1.0, 3.0, 0.0), &p, &q, [true, false], reach);
         assert_eq!(on, Point3::new(-1.0, 0.0, 0.0));
-        let far = foot(&Point3::new(-9.0, 3.0, 0.0), &p, &q, [true, false]);
-        assert_eq!(far, Point3::new(-2.0 * EXTENSION, 0.0, 0.0));
+        let far = foot(&Point3::new(-9.0, 3.0, 0.0), &p, &q, [true, false], reach);
+        assert_eq!(far, Point3::new(-reach, 0.0, 0.0));
     }
 }
