@@ -17,7 +17,6 @@
 use super::params::{SprayError, MAX_SAMPLES};
 use crate::math::{Point3, Real, Vector3};
 use crate::mesh::{FaceGeometry, TriMesh};
-use std::collections::HashMap;
 
 /// Evaluation samples and their display mesh.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -74,7 +73,8 @@ pub fn sample_faces(
     }
     let mut out = EvaluationSamples::default();
     let mut at_vertex = vec![u32::MAX; mesh.vertex_count()];
-    let mut on_edge: HashMap<(u32, u32, u32, u32), u32> = HashMap::new();
+    let mut on_edge: rustc_hash::FxHashMap<(u32, u32, u32, u32), u32> =
+        rustc_hash::FxHashMap::default();
     let mut grid: Vec<u32> = Vec::new();
     for &f in faces {
         let f = f as usize;
