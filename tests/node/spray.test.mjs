@@ -106,8 +106,8 @@ test('the spacing search meets a limit and reports every spacing tried', () => {
   // Constant speed: with the optimiser on, the widest spacing already meets this limit.
   const plan = mesh.planSpray({ ...base, optimiseSpeed: false, timeStep: 0.05, quality: { maxError: 0.1, minSpacing: 25 } });
   const its = plan.iterations();
-  // At least one coarse spacing, its confirmation and one refinement round of two.
-  assert.ok(its.length >= 4, `${its.length} tried`);
+  // At least one coarse spacing, a refinement on the coarse samples and the confirmation.
+  assert.ok(its.length >= 3, `${its.length} tried`);
   const q = plan.quality();
   assert.equal(q.limitsMet, true);
   assert.ok(q.interior.error <= 0.1);
@@ -115,7 +115,7 @@ test('the spacing search meets a limit and reports every spacing tried', () => {
   const res = Math.min(...its.map((it) => it.resolution));
   const full = its.filter((it) => it.resolution === res);
   assert.deepEqual(its.map((it) => it.full), its.map((it) => it.resolution === res), 'full marks the full-resolution figures');
-  assert.ok(full.length > 1);
+  assert.ok(full.length >= 1 && full.length < its.length, 'screened on coarse samples, confirmed at full');
   assert.ok(full.some((it) => it.spacing === plan.spacing && it.met));
   assert.ok(!full.some((it) => it.met && it.spacing > plan.spacing));
   const impossible = mesh.planSpray({ ...base, timeStep: 0.05, quality: { maxError: 1e-9, minSpacing: 40 } });
