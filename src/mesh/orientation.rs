@@ -9,10 +9,12 @@
 //! larger share of its area in the file.
 //! A non-orientable part (a Möbius strip) keeps at least one edge inconsistent; those are
 //! counted (which edges are left inconsistent there depends on the order of the links).
-//! Here: volumes (and, where some face must turn, areas) are summed per part in face order,
-//! then faces are turned in one sequential pass, in which the import measures them
-//! (normals, areas, centroids) in their final winding (see `orient_and_measure`).
-//! Cost: two passes over the faces; 21 bytes a part of scratch (37 when some face turns).
+//! Here: volumes of closed parts (and areas of open parts where some face must turn) are
+//! summed per part in face order, then faces are turned in one sequential pass, in which
+//! the import measures them (normals, areas, centroids) in their final winding (see
+//! `orient_and_measure`).
+//! Cost: two passes over the faces (and up to two over the parts' ids where some part is
+//! open or some face turns); 21 bytes a part of scratch (38 when some face turns).
 
 use super::adjacency::WindingParts;
 use super::face_geometry::face_area;
@@ -68,34 +70,43 @@ fn orient(
     let n = mesh.triangle_count();
     let count = parts.count;
     let part = |f: usize| ((parts.of_face[f] >> 1) as usize, parts.of_face[f] & 1 == 1);
+    // What decides each part: its volume if it is closed (no open or non-manifold slot),
+    // else the areas kept and turned, which matter only if some face turns.
+    let mut closed = vec![true; count];
+    if !parts.all_linked {
+        for f in 0..n {
+            closed[part(f).0] &= !adjacency.neighbours(f).contains(&super::NO_FACE);
+        }
+    }
+    let mut weigh = vec![false; if parts.any_turned { count } else { 0 }];
+    if parts.any_turned {
+        for f in 0..n {
+            let (p, turned) = part(f);
+            weigh[p] |= turned && !closed[p];
+        }
+    }
     // Parts are numbered in order of their first face, so the first face of part p is
     // known when p is first met.
     let mut first_face: Vec<u32> = Vec::with_capacity(count);
-    let mut closed = vec![true; count];
     let mut volume = vec![0.0f64; count];
-    // The areas kept and turned decide only open parts with turned faces.
-    let areas = if parts.any_turned { count } else { 0 };
-    let mut turned_area = vec![0.0f64; areas];
-    let mut kept_area = vec![0.0f64; areas];
+    let mut turned_area = vec![0.0f64; weigh.len()];
+    let mut kept_area = vec![0.0f64; weigh.len()];
     for f in 0..n {
         let (p, turned) = part(f);
         if p == first_face.len() {
             first_face.push(f as u32);
         }
-        let corners = mesh.corners(f);
-        let first = mesh.triangles()[first_face[p] as usize][0];
-        let o = mesh.positions()[first as usize].coords;
-        if !parts.all_linked {
-            closed[p] &= !adjacency.neighbours(f).contains(&super::NO_FACE);
-        }
-        let v = signed_volume6(corners, &o);
-        if turned {
-            volume[p] -= v;
-        } else {
-            volume[p] += v;
-        }
-        if parts.any_turned {
-            let area = face_area(corners);
+        if closed[p] {
+            let first = mesh.triangles()[first_face[p] as usize][0];
+            let o = mesh.positions()[first as usize].coords;
+            let v = signed_volume6(mesh.corners(f), &o);
+            if turned {
+                volume[p] -= v;
+            } else {
+                volume[p] += v;
+            }
+        } else if parts.any_turned && weigh[p] {
+            let area = face_area(mesh.corners(f));
             if turned {
                 turned_area[p] += area;
             } else {
@@ -109,11 +120,11 @@ fn orient(
             if closed[p] {
                 volume[p] < 0.0
             } else {
-                parts.any_turned && turned_area[p] > kept_area[p]
+                parts.any_turned && weigh[p] && turned_area[p] > kept_area[p]
             }
         })
         .collect();
-    drop((closed, volume, turned_area, kept_area));
+    drop((closed, weigh, volume, turned_area, kept_area));
     let mut report = OrientationReport {
         orientable_parts: count,
         inconsistent_edges: parts.inconsistent_edges,
