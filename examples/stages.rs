@@ -5,9 +5,59 @@
 //! browser, later runs reuse memory the first one obtained. (`npm run bench` measures the
 //! WebAssembly build end to end.)
 
-use skinpath::mesh::{prepare_mesh, read_stl_with_progress};
-use skinpath::segment::{segment_with_progress, SegmentParams};
+use skinpath::mesh::{prepare_mesh, read_stl_with_progress, ImportedMesh};
+use skinpath::segment::{segment_with_progress, SegmentParams, Segmentation};
 use std::time::Instant;
+
+/// FNV-1a (64 bit) over the results, bit for bit: the report, the triangles in their final
+/// winding, the face geometry and the segmentation, so that two builds can be compared.
+fn fingerprint(imported: &ImportedMesh, seg: &Segmentation) -> u64 {
+    let r = &imported.report;
+    let g = &imported.geometry;
+    let counts = [
+        r.triangles,
+        r.vertices,
+        r.boundary_edges,
+        r.non_manifold_edges,
+        r.degenerate_triangles,
+        r.components,
+        r.flipped_triangles,
+        r.inconsistent_edges,
+    ];
+    let words =
+        counts
+            .into_iter()
+            .map(|c| c as u64)
+            .chain([r.area.to_bits()])
+            .chain(
+                imported
+                    .mesh
+                    .triangles()
+                    .iter()
+                    .flatten()
+                    .map(|&v| u64::from(v)),
+            )
+            .chain(
+                g.normals()
+                    .iter()
+                    .flat_map(|n| [n.x, n.y, n.z].map(f64::to_bits)),
+            )
+            .chain(g.areas().iter().map(|a| a.to_bits()))
+            .chain(
+                g.centroids()
+                    .iter()
+                    .flat_map(|c| [c.x, c.y, c.z].map(f64::to_bits)),
+            )
+            .chain(seg.patch_of.iter().map(|&p| p as u64))
+            .chain(seg.patches.iter().flat_map(|p| {
+                [p.area, p.max_deviation, p.normal[0], p.centroid[0]].map(f64::to_bits)
+            }));
+    words.fold(0xcbf2_9ce4_8422_2325, |h, w| {
+        w.to_le_bytes()
+            .iter()
+            .fold(h, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+    })
+}
 
 fn main() {
     let mut args = std::env::args().skip(1);
@@ -75,12 +125,13 @@ fn main() {
             None => all.push(("total".into(), vec![total])),
         }
         summary = format!(
-            "{} faces, {} vertices, {} regions, {} planar patches, {} kept",
+            "{} faces, {} vertices, {} regions, {} planar patches, {} kept; fingerprint {:016x}",
             imported.mesh.triangle_count(),
             imported.mesh.vertex_count(),
             seg.region_count,
             seg.planar_patch_count,
-            seg.patches.len()
+            seg.patches.len(),
+            fingerprint(&imported, &seg)
         );
     }
     for (name, mut v) in all {

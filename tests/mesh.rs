@@ -719,3 +719,42 @@ fn slivers_are_judged_alike_in_every_vertex_order_and_after_writing_and_reading(
         }
     }
 }
+
+/// A Möbius strip cannot be wound consistently: the import counts the links left
+/// inconsistent, the adjacency reports as many winding conflicts, and turning the faces by
+/// hand (`orient_consistently` on the file's mesh) agrees with the import.
+#[test]
+fn a_moebius_strip_keeps_its_inconsistent_links_counted_alike() {
+    use skinpath::mesh::{orient_consistently, FaceAdjacency};
+    let n = 24;
+    let point = |i: usize, s: f64| {
+        // The strip's centre circle has radius 2; the segment across it turns by half a
+        // turn in one round (angle a/2), so the band closes on itself reversed.
+        let a = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+        let (r, z) = (2.0 + s * (a / 2.0).cos(), s * (a / 2.0).sin());
+        [r * a.cos(), r * a.sin(), z].map(|x| x as f32)
+    };
+    let triangles: Vec<Tri> = (0..n)
+        .flat_map(|i| {
+            // The last quad joins the end segment to the start one reversed.
+            let (s0, s1) = if i + 1 == n { (-1.0, 1.0) } else { (1.0, -1.0) };
+            let (a, b) = (point(i, 1.0), point(i, -1.0));
+            let (c, d) = (point((i + 1) % n, s0), point((i + 1) % n, s1));
+            [[a, b, d], [a, d, c]]
+        })
+        .collect();
+    let m = import(&binary_stl(&triangles));
+    assert_eq!(m.report.components, 1);
+    assert_eq!(m.report.boundary_edges, 2 * n);
+    assert!(m.report.inconsistent_edges >= 1);
+    assert_eq!(m.adjacency.winding_conflicts(), m.report.inconsistent_edges);
+    let mut mesh = read_stl(&binary_stl(&triangles)).unwrap().mesh;
+    let mut adjacency = FaceAdjacency::new(&mesh);
+    let report = orient_consistently(&mut mesh, &mut adjacency);
+    assert_eq!(
+        (report.flipped_faces, report.inconsistent_edges),
+        (m.report.flipped_triangles, m.report.inconsistent_edges)
+    );
+    assert_eq!(mesh.triangles(), m.mesh.triangles());
+    assert_eq!(adjacency, m.adjacency);
+}

@@ -11,6 +11,10 @@
 //! Every edge is resolved once, in a sequential walk over the runs; a vertex of high
 //! valence (the centre of a disc tessellated as a fan, an edge shared by thousands of
 //! faces) costs a sort of its runs, never a scan per face.
+//! The same walk joins the faces linked across manifold edges into orientable parts (a
+//! union–find that keeps whether each face is turned relative to its part's first face), so
+//! that making the windings agree needs no search of its own; components are the parts,
+//! merged across non-manifold edges.
 //! Cost: O(n log n) whatever the valence (O(n) at bounded valence); about 30 bytes a face
 //! of scratch, read in contiguous runs per vertex.
 
@@ -29,33 +33,69 @@ pub struct FaceAdjacency {
     non_manifold_edges: usize,
     components: usize,
     winding_conflicts: usize,
-    /// Per face, bit `k` set when the face across slot `k` traverses their edge in the same
-    /// direction (a winding conflict); empty when no linked edge has one.
-    same_direction: Vec<u8>,
 }
 
-/// Union–find over faces with path halving; used to find edge-connected components.
-struct UnionFind(Vec<u32>);
+/// Union–find over faces with path halving that keeps, for each face, whether it is turned
+/// relative to its parent (parity), so that a root knows how every face of its part must be
+/// wound to agree with it.
+struct ParityUnionFind {
+    parent: Vec<u32>,
+    odd: Vec<u8>,
+}
 
-impl UnionFind {
-    fn find(&mut self, mut x: u32) -> u32 {
-        // Ends: a parent is never larger than its child (see `union`), so x decreases.
-        while self.0[x as usize] != x {
-            let parent = self.0[self.0[x as usize] as usize];
-            self.0[x as usize] = parent;
-            x = parent;
+impl ParityUnionFind {
+    /// Root of `x` and the parity of `x` to it, halving the path on the way.
+    #[inline]
+    fn find(&mut self, mut x: u32) -> (u32, u8) {
+        let mut parity = 0;
+        // Ends: a parent is never larger than its child (see `link`), so x decreases.
+        loop {
+            let up = self.parent[x as usize];
+            if up == x {
+                return (x, parity);
+            }
+            let top = self.parent[up as usize];
+            self.odd[x as usize] ^= self.odd[up as usize];
+            self.parent[x as usize] = top;
+            parity ^= self.odd[x as usize];
+            x = top;
         }
-        x
     }
 
-    fn union(&mut self, a: u32, b: u32) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            // Attach the larger id under the smaller: deterministic and shallow enough here.
-            let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-            self.0[hi as usize] = lo;
+    /// Joins the parts of `f` and `g`, with `g` turned relative to `f` when `turn` is 1;
+    /// false when they are already one part in which `g` has the other parity (the link
+    /// cannot be made consistent).
+    #[inline]
+    fn link(&mut self, f: u32, g: u32, turn: u8) -> bool {
+        let ((rf, pf), (rg, pg)) = (self.find(f), self.find(g));
+        if rf == rg {
+            return pf ^ pg == turn;
         }
+        // The smaller root stays: deterministic, and each part's root is its first face.
+        let (lo, hi) = if rf < rg { (rf, rg) } else { (rg, rf) };
+        self.parent[hi as usize] = lo;
+        self.odd[hi as usize] = pf ^ pg ^ turn;
+        true
     }
+}
+
+/// How the windings of the faces relate, found with the adjacency (crate-internal, for
+/// [`orient_consistently`](super::orient_consistently)): faces linked by manifold edges form
+/// parts, numbered in order of their first face.
+#[derive(Debug)]
+pub(crate) struct WindingParts {
+    /// Per face, `part << 1 | turned`: `turned` when the face must be turned relative to its
+    /// part's first face for their windings to agree.
+    pub(crate) of_face: Vec<u32>,
+    /// Number of parts.
+    pub(crate) count: usize,
+    /// Links whose faces cannot be made to agree (non-orientable parts; which links depends
+    /// on the order they are met in).
+    pub(crate) inconsistent_edges: usize,
+    /// Whether any face is turned relative to its part's first face.
+    pub(crate) any_turned: bool,
+    /// Whether every face has a face across each of its edges (so every part is closed).
+    pub(crate) all_linked: bool,
 }
 
 /// A face edge filed under its smaller vertex: the face and corner it starts at (packed as
@@ -88,6 +128,76 @@ fn sort_run(run: &mut [OutEdge]) {
     }
 }
 
+/// Every face's part, numbered in order of the parts' first faces, and parity to its
+/// first face, packed as `part << 1 | parity`; and the number of parts.
+fn number_parts(mut parts: ParityUnionFind) -> (Vec<u32>, usize) {
+    let n = parts.parent.len();
+    // Every face points at its root with the parity to it (a face already done is a
+    // one-step path for the faces below it).
+    for f in 0..n {
+        let (root, parity) = parts.find(f as u32);
+        (parts.parent[f], parts.odd[f]) = (root, parity);
+    }
+    let ParityUnionFind {
+        parent: mut of_face,
+        odd,
+    } = parts;
+    // A root is its part's smallest face, so it is numbered (and its entry overwritten with
+    // `part << 1`, parity 0) before the part's other faces are met.
+    let mut count = 0u32;
+    for f in 0..n {
+        let root = of_face[f] as usize;
+        of_face[f] = if root == f {
+            count += 1;
+            (count - 1) << 1
+        } else {
+            of_face[root] | u32::from(odd[f])
+        };
+    }
+    (of_face, count as usize)
+}
+
+/// Component of every face, numbered in order of first face, and their number: the parts
+/// (numbered in order of first face), merged where faces share a non-manifold edge (`books`).
+fn number_components(of_face: &[u32], parts: usize, books: &[[u32; 2]]) -> (Vec<u32>, usize) {
+    if books.is_empty() {
+        return (of_face.iter().map(|&p| p >> 1).collect(), parts);
+    }
+    // Union–find over parts, the smaller part the root: a component's smallest part holds
+    // its first face.
+    let mut root: Vec<u32> = (0..parts as u32).collect();
+    let find = |root: &mut [u32], mut x: u32| -> u32 {
+        // Ends: a parent is never larger than its child, so x decreases.
+        while root[x as usize] != x {
+            let up = root[root[x as usize] as usize];
+            root[x as usize] = up;
+            x = up;
+        }
+        x
+    };
+    for &[f, g] in books {
+        let a = find(&mut root, of_face[f as usize] >> 1);
+        let b = find(&mut root, of_face[g as usize] >> 1);
+        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+        root[hi as usize] = lo;
+    }
+    for p in 0..parts {
+        root[p] = find(&mut root, p as u32);
+    }
+    let mut count = 0u32;
+    for p in 0..parts {
+        let r = root[p] as usize;
+        root[p] = if r == p {
+            count += 1;
+            count - 1
+        } else {
+            root[r]
+        };
+    }
+    let component_of = of_face.iter().map(|&p| root[(p >> 1) as usize]).collect();
+    (component_of, count as usize)
+}
+
 /// Most faces a mesh may have here: face ids are packed with a 2-bit corner into a `u32`.
 pub const MAX_FACES: usize = (u32::MAX >> 2) as usize;
 
@@ -99,6 +209,14 @@ impl FaceAdjacency {
 
     /// [`FaceAdjacency::new`] reporting `("adjacency", fraction)` now and then.
     pub fn with_progress(mesh: &TriMesh, progress: &mut dyn FnMut(&str, f64)) -> Self {
+        Self::with_parts(mesh, progress).0
+    }
+
+    /// [`FaceAdjacency::with_progress`], and the orientable parts the links form.
+    pub(crate) fn with_parts(
+        mesh: &TriMesh,
+        progress: &mut dyn FnMut(&str, f64),
+    ) -> (Self, WindingParts) {
         progress("adjacency", 0.0);
         let triangles = mesh.triangles();
         let n = triangles.len();
@@ -110,8 +228,11 @@ impl FaceAdjacency {
 
         // Each face edge is filed under its smaller vertex `u`, in run `2u` when it leaves
         // `u` and `2u + 1` when it arrives there, with its other vertex (counting sort), so
-        // the faces on an edge are found in one place.
+        // the faces on an edge are found in one place. Run r is counted in offsets[r + 2],
+        // so that after the prefix sum offsets[r + 1] is its start and, advanced as it is
+        // filled, ends as its end (the start of run r + 1): run r is offsets[r]..offsets[r + 1].
         let vertex_count = mesh.vertex_count();
+        let runs = 2 * vertex_count;
         let run_of = |a: u32, b: u32| -> usize {
             if a < b {
                 2 * a as usize
@@ -119,42 +240,51 @@ impl FaceAdjacency {
                 2 * b as usize + 1
             }
         };
-        let mut offsets = vec![0u32; 2 * vertex_count + 1];
-        for t in triangles.iter().filter(|t| !collapsed(t)) {
+        let mut offsets = vec![0u32; runs + 2];
+        let mut collapsed_faces = 0;
+        for t in triangles {
+            if collapsed(t) {
+                collapsed_faces += 1;
+                continue;
+            }
             for k in 0..3 {
-                offsets[run_of(t[k], t[(k + 1) % 3]) + 1] += 1;
+                offsets[run_of(t[k], t[(k + 1) % 3]) + 2] += 1;
             }
         }
-        for r in 0..2 * vertex_count {
-            offsets[r + 1] += offsets[r];
+        for r in 2..runs + 2 {
+            offsets[r] += offsets[r - 1];
         }
-        let mut out = vec![OutEdge::default(); offsets[2 * vertex_count] as usize];
-        let mut fill = offsets.clone();
+        let mut out = vec![OutEdge::default(); offsets[runs + 1] as usize];
         for (f, t) in triangles.iter().enumerate() {
             if collapsed(t) {
                 continue;
             }
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
-                let r = run_of(a, b);
-                out[fill[r] as usize] = OutEdge {
+                let at = &mut offsets[run_of(a, b) + 1];
+                out[*at as usize] = OutEdge {
                     face_corner: (f as u32) << 2 | k as u32,
                     to: a.max(b),
                 };
-                fill[r] += 1;
+                *at += 1;
             }
         }
-        drop(fill);
         let mut neighbours = vec![[NO_FACE; 3]; n];
-        let mut union_find = UnionFind((0..n as u32).collect());
-        let (mut boundary_edges, mut non_manifold_edges, mut winding_conflicts) = (0, 0, 0);
-        // The two (face, corner) ends of every link wound alike (rare: kept out of the walk).
-        let mut conflicts: Vec<[u32; 2]> = Vec::new();
+        let mut parts = ParityUnionFind {
+            parent: (0..n as u32).collect(),
+            odd: vec![0; n],
+        };
+        let (mut boundary_edges, mut non_manifold_edges) = (0, 0);
+        let (mut winding_conflicts, mut inconsistent_edges) = (0, 0);
+        // Faces on non-manifold edges, each with the edge's first face: they share a
+        // component but no part.
+        let mut books: Vec<[u32; 2]> = Vec::new();
         // Vertex by vertex, the faces on each edge `u – w` are the entries with other vertex
         // `w` in the two runs of `u`: sorted by `(w, face·4 + corner)` (a unique key, so the
         // order is deterministic), equal `w` are neighbours. Every edge is resolved once, so
-        // the result does not depend on the order of the edges (the union–find's roots are
-        // the smallest faces whatever the order of the unions).
+        // the links do not depend on the order of the edges, nor do the parts (the union–find's
+        // roots are the smallest faces whatever the order of the unions); only which links of
+        // a non-orientable part are found inconsistent does.
         for u in 0..vertex_count {
             if u % super::PROGRESS_EVERY == 0 {
                 progress("adjacency", u as f64 / vertex_count as f64);
@@ -195,10 +325,12 @@ impl FaceAdjacency {
                         let (f, g) = (nth(0), nth(1));
                         neighbours[(f >> 2) as usize][(f & 3) as usize] = g >> 2;
                         neighbours[(g >> 2) as usize][(g & 3) as usize] = f >> 2;
-                        union_find.union(f >> 2, g >> 2);
-                        // Both on one side: they traverse the edge the same way.
-                        if backward.len() != 1 {
-                            conflicts.push([f, g]);
+                        // Both on one side: they traverse the edge the same way, so one of
+                        // the two must turn.
+                        let turn = backward.len() != 1;
+                        winding_conflicts += usize::from(turn);
+                        if !parts.link(f >> 2, g >> 2, u8::from(turn)) {
+                            inconsistent_edges += 1;
                         }
                     }
                     _ => {
@@ -206,44 +338,33 @@ impl FaceAdjacency {
                         // but share a component.
                         let mut faces = forward.iter().chain(backward).map(|e| e.face_corner >> 2);
                         if let Some(hub) = faces.next() {
-                            for g in faces {
-                                union_find.union(hub, g);
-                            }
+                            books.extend(faces.map(|g| [hub, g]));
                         }
                         non_manifold_edges += 1;
                     }
                 }
             }
         }
-        drop(out);
-        winding_conflicts += conflicts.len();
-        let mut same_direction: Vec<u8> = Vec::new();
-        if !conflicts.is_empty() {
-            same_direction = vec![0; n];
-            for e in conflicts.into_iter().flatten() {
-                same_direction[(e >> 2) as usize] |= 1 << (e & 3);
-            }
-        }
-        // Number components 0, 1, … in order of their first face.
-        let mut component_of = vec![u32::MAX; n];
-        let mut components = 0u32;
-        for f in 0..n {
-            let root = union_find.find(f as u32) as usize;
-            if component_of[root] == u32::MAX {
-                component_of[root] = components;
-                components += 1;
-            }
-            component_of[f] = component_of[root];
-        }
-        FaceAdjacency {
+        drop((out, offsets));
+        let (of_face, part_count) = number_parts(parts);
+        let (component_of, components) = number_components(&of_face, part_count, &books);
+        let any_turned = of_face.iter().any(|&p| p & 1 == 1);
+        let adjacency = FaceAdjacency {
             neighbours,
             component_of,
             boundary_edges,
             non_manifold_edges,
-            components: components as usize,
+            components,
             winding_conflicts,
-            same_direction,
-        }
+        };
+        let parts = WindingParts {
+            of_face,
+            count: part_count,
+            inconsistent_edges,
+            any_turned,
+            all_linked: boundary_edges == 0 && non_manifold_edges == 0 && collapsed_faces == 0,
+        };
+        (adjacency, parts)
     }
 
     /// Number of faces.
@@ -294,45 +415,15 @@ impl FaceAdjacency {
         self.winding_conflicts
     }
 
-    /// Whether the face across slot `k` of `f` traverses their shared edge in the same
-    /// direction as `f` (false where there is no face across).
-    #[inline]
-    pub(crate) fn same_direction(&self, f: usize, k: usize) -> bool {
-        self.same_direction
-            .get(f)
-            .is_some_and(|&bits| bits >> k & 1 != 0)
-    }
-
-    /// Sets the winding conflicts after faces were flipped: `count` of them, on the links
-    /// for which `conflict(f, k, g)` holds (`g` the face across slot `k` of `f`; called
-    /// only when `count > 0`).
-    pub(crate) fn set_winding_conflicts(
-        &mut self,
-        count: usize,
-        mut conflict: impl FnMut(usize, usize, usize) -> bool,
-    ) {
+    /// Sets the number of winding conflicts after faces were flipped.
+    pub(crate) fn set_winding_conflicts(&mut self, count: usize) {
         self.winding_conflicts = count;
-        self.same_direction.clear();
-        if count > 0 {
-            let neighbours = &self.neighbours;
-            self.same_direction = (0..neighbours.len())
-                .map(|f| {
-                    (0..3)
-                        .filter(|&k| {
-                            let g = neighbours[f][k];
-                            g != NO_FACE && conflict(f, k, g as usize)
-                        })
-                        .fold(0u8, |bits, k| bits | 1 << k)
-                })
-                .collect();
-        }
-        self.same_direction.shrink_to_fit();
     }
 
     /// Reorders the slots of `f` after its winding was reversed by swapping corners 1 and 2:
-    /// the edges (0,1), (1,2), (2,0) become (0,2), (2,1), (1,0). The directions of its links
-    /// are left as they were: a caller that flips faces with conflicts calls
-    /// [`FaceAdjacency::set_winding_conflicts`] after.
+    /// the edges (0,1), (1,2), (2,0) become (0,2), (2,1), (1,0). The count of winding
+    /// conflicts is left as it was: a caller that flips faces sets it after
+    /// ([`FaceAdjacency::set_winding_conflicts`]).
     pub(crate) fn flip(&mut self, f: usize) {
         self.neighbours[f].swap(0, 2);
     }

@@ -26,6 +26,20 @@ fn from_smallest_corner([a, b, c]: [Point3; 3]) -> [Point3; 3] {
     }
 }
 
+/// `(b − a) × (c − a)` from the smallest corner (see [`from_smallest_corner`]), and the
+/// corners in that order.
+#[inline(always)]
+fn scaled_normal(corners: [Point3; 3]) -> (Vector3, [Point3; 3]) {
+    let [a, b, c] = from_smallest_corner(corners);
+    ((b - a).cross(&(c - a)), [a, b, c])
+}
+
+/// The area [`measure`] gives, bit for bit, in either winding.
+#[inline(always)]
+pub(crate) fn face_area(corners: [Point3; 3]) -> Real {
+    0.5 * scaled_normal(corners).0.norm()
+}
+
 /// Unit normal (zero when degenerate), area and centroid of the face with corners
 /// `[a, b, c]` in that winding. The normal, area and degeneracy do not depend on which
 /// corner the winding starts at (see [`from_smallest_corner`]), and reversing the winding
@@ -34,8 +48,7 @@ fn from_smallest_corner([a, b, c]: [Point3; 3]) -> [Point3; 3] {
 pub(crate) fn measure(corners: [Point3; 3]) -> (Vector3, Real, Point3) {
     let [a, b, c] = corners;
     let centroid = centroid(a, b, c);
-    let [a, b, c] = from_smallest_corner(corners);
-    let scaled = (b - a).cross(&(c - a));
+    let (scaled, [a, b, c]) = scaled_normal(corners);
     let twice_area = scaled.norm();
     // Squared lengths are never NaN or −0, so `larger` gives exactly `f64::max`.
     let longest_sq = larger(
@@ -99,17 +112,6 @@ impl FaceGeometry {
         self.normals.push(normal);
         self.areas.push(area);
         self.centroids.push(centroid);
-    }
-
-    /// Records that face `f` was turned (corners 1 and 2 swapped) after it was measured:
-    /// `corners` are its corners in the new winding. Only the normal changes (area and
-    /// centroid do not depend on the winding, see `measure`); it is measured again rather
-    /// than negated, since a zero component keeps its sign rule (`x − x = +0` both ways).
-    #[inline]
-    pub(crate) fn turn(&mut self, f: usize, corners: [Point3; 3]) {
-        let (normal, area, centroid) = measure(corners);
-        debug_assert!(area == self.areas[f] && centroid == self.centroids[f]);
-        self.normals[f] = normal;
     }
 
     /// Number of faces.

@@ -71,10 +71,11 @@ pub fn prepare_mesh(
     progress: &mut dyn FnMut(&str, f64),
 ) -> Result<ImportedMesh, StlError> {
     let mut mesh = import.mesh;
-    let mut adjacency = FaceAdjacency::with_progress(&mesh, progress);
+    let (mut adjacency, parts) = FaceAdjacency::with_parts(&mesh, progress);
     progress("orient", 0.0);
     // The geometry is computed with the winding (in the same pass where it can be).
-    let (orientation, geometry) = orient_and_measure(&mut mesh, &mut adjacency);
+    let (orientation, geometry) = orient_and_measure(&mut mesh, &mut adjacency, &parts);
+    drop(parts);
     progress("geometry", 0.0);
     // Degenerate as the report counts it (FaceGeometry, DEGENERATE_HEIGHT_RATIO): with no
     // usable normal anywhere, every later stage would run on noise.
