@@ -2,6 +2,9 @@
 //! (metres): `cargo run --release --example spray_stages -- FILE.stl [patch]`.
 //! With `patch`, plans the largest patch of the default segmentation instead of all faces.
 //! (`npm run bench -- spray` measures the WebAssembly build end to end.)
+//! Environment: `MAX_ERROR`, `MIN_SPACING`, `MAX_SPACING` set the search's limits (default
+//! maxError 0.2); `CPU_TIME=1` reports process CPU time (steadier than wall time on a shared
+//! machine; Linux); `ONLY_PLAN=1` stops after the single plan.
 
 use skinpath::mesh::{orient_consistently, read_stl, FaceAdjacency, FaceGeometry};
 use skinpath::segment::{segment, SegmentParams};
@@ -88,6 +91,9 @@ fn main() {
             frame.arc[3 * n / 4],
             frame.plane_offsets(0.09).map(|o| o.len())
         );
+    }
+    if std::env::var_os("ONLY_PLAN").is_some() {
+        return;
     }
     let q = SprayParams {
         quality: Some(QualityLimits {
