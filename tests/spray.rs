@@ -9,9 +9,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use common::{binary_stl, import, Tri};
 use skinpath::mesh::ImportedMesh;
 use skinpath::spray::{
-    deposit, optimise_speeds, patch_frame, plan_spray, ripple, PointGrid, QualityLimits,
-    SpeedLimits, SprayError, SprayModel, SprayParams, SprayPlan, COARSE_RESOLUTION_RATIO,
-    FALLBACK_MARGIN, REFINE_TOLERANCE,
+    deposit, optimise_speeds, patch_frame, plan_spray, ripple, split_long_moves, PointGrid,
+    QualityLimits, SpeedLimits, SprayError, SprayModel, SprayParams, SprayPlan,
+    COARSE_RESOLUTION_RATIO, FALLBACK_MARGIN, REFINE_TOLERANCE,
 };
 use skinpath::toolpath::PoseKind;
 use std::f64::consts::PI;
@@ -110,6 +110,59 @@ fn one_straight_pass_matches_the_closed_form() {
             assert_near!(t, single_pass(&p, x), 0.001 * peak);
             checked += 1;
         }
+    }
+    assert!(checked > 50, "only {checked} samples checked");
+}
+
+/// One straight pass whose speed changes from move to move (short moves alternating between
+/// v and 1.5·v, changing inside the chords of the deposition): each move's share is the
+/// closed-form integral of the planar rate over it, divided by its speed.
+#[test]
+fn a_pass_whose_speed_changes_move_by_move_matches_the_closed_form() {
+    let m = plate(800.0, 200.0, 8, 2);
+    let p = params(200.0);
+    let base = plan(&m, &p).unwrap();
+    let mut path = split_long_moves(&base.path, R / 3.0);
+    path.speeds = (0..path.poses.len())
+        .map(|k| if k % 2 == 0 { p.speed } else { 1.5 * p.speed })
+        .collect();
+    let grid = PointGrid::new(&base.samples.positions, 0.5 * R);
+    let model = SprayModel {
+        radius: R,
+        peak_rate: peak_rate(&p),
+        standoff: H,
+    };
+    let t = deposit(
+        &path,
+        &base.samples,
+        &grid,
+        &model,
+        p.speed,
+        p.time_step.unwrap(),
+    )
+    .unwrap();
+    let a = peak_rate(&p);
+    let mut checked = 0;
+    for (q, &got) in base.samples.positions.iter().zip(&t) {
+        let d = q.y - 100.0;
+        if !(250.0..=550.0).contains(&q.x) || d.abs() > 0.8 * R {
+            continue;
+        }
+        let w = (R * R - d * d).sqrt();
+        let f = |u: f64| {
+            let u = u.clamp(-w, w);
+            (1.0 - d * d / (R * R)) * u - u * u * u / (3.0 * R * R)
+        };
+        let expected: f64 = (1..path.poses.len())
+            .filter(|&k| path.poses[k].kind.process_on())
+            .map(|k| {
+                let (x0, x1) = (path.poses[k - 1].position.x, path.poses[k].position.x);
+                assert_near!(path.poses[k].position.y, 100.0, 1e-9);
+                a * (f(x1.max(x0) - q.x) - f(x1.min(x0) - q.x)) / path.move_speed(k)
+            })
+            .sum();
+        assert_near!(got, expected, 1e-9 * a * R / p.speed);
+        checked += 1;
     }
     assert!(checked > 50, "only {checked} samples checked");
 }

@@ -14,10 +14,9 @@
 //!         [`CHUNK_RADIUS_RATIO`]·R long and visits the grid cells of its swept cone,
 //!         truncated at an axial distance of [`MAX_AXIAL_RATIO`]·h; each point gets about
 //!         `2R / piece + 1` pieces × 3 evaluations instead of `2R / (v·Δt)` time steps.
-//!         Where the speed changes within a piece, each chord is cut there and each stretch
-//!         integrated on its own (two points on stretches of at most
-//!         [`SHORT_STRETCH_RATIO`]·R, where the rate is nearly a parabola), so per-move
-//!         speeds do not shorten the pieces.
+//!         Where the speed changes within a piece, the quadratic through the chord's three
+//!         Gauss nodes (the rate itself on a plane under a constant axis) is integrated over
+//!         each stretch of one speed, so per-move speeds cost no extra rate evaluations.
 //! Deviations: occlusion by other parts of the mesh is ignored (every point in the cone
 //!         with `cos λ > 0` is coated); points farther than `MAX_AXIAL_RATIO·h` along the axis
 //!         are ignored; the gun moves at constant speed along every gun-on move (arcs
@@ -89,11 +88,6 @@ pub fn time_sample_count(path: &ToolPath, step_length: Real) -> usize {
 const GAUSS_NODES: [Real; 3] = [-0.774_596_669_241_483_4, 0.0, 0.774_596_669_241_483_4];
 /// Gauss–Legendre weights matching [`GAUSS_NODES`].
 const GAUSS_WEIGHTS: [Real; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
-/// Two-point Gauss–Legendre nodes (exact for polynomials of degree 3).
-const GAUSS2_NODES: [Real; 2] = [-0.577_350_269_189_625_8, 0.577_350_269_189_625_8];
-/// A stretch of chord at most this multiple of `R` long is integrated with two points
-/// (the rate along it is a parabola on a plane, and nearly one over so short a stretch).
-const SHORT_STRETCH_RATIO: Real = 0.5;
 /// Longest run of gun-on moves integrated as one piece, as a multiple of `R`.
 pub const CHUNK_RADIUS_RATIO: Real = 4.0;
 /// Largest turn (radians) of the gun axis or of the travel direction within one piece.
@@ -109,9 +103,9 @@ const MIN_LATERAL: Real = 0.5;
 /// [`CHUNK_RADIUS_RATIO`]·R whose axis and direction turn by at most [`CHUNK_TURN_RAD`]. For
 /// each sample near a piece, the chord of the piece's straight line (start to end, mean axis)
 /// inside the cone is found in closed form (a quadratic in the line parameter), and the rate
-/// is integrated over that chord (over each stretch of one speed) by Gauss–Legendre at the
-/// exact interpolated poses. On a plane under a constant axis the rate along the chord is a
-/// parabola, so the quadrature is exact there. Pieces moving nearly along their axis fall back to midpoint time steps of
+/// is integrated over that chord by Gauss–Legendre at the exact interpolated poses (over
+/// each stretch of one speed, the quadratic through the three nodes). On a plane under a
+/// constant axis the rate along the chord is a parabola, so both are exact there. Pieces moving nearly along their axis fall back to midpoint time steps of
 /// `time_step`, which also bounds the work ([`MAX_TIME_SAMPLES`]).
 pub fn deposit(
     path: &ToolPath,
@@ -327,7 +321,6 @@ pub(super) fn deposit_piece(
     let margin = Vector3::repeat(reach * CHUNK_TURN_RAD);
     let (lo, hi) = (lo0.inf(&lo1) - margin, hi0.sup(&hi1) + margin);
     let to_arc = arc / line;
-    let short = SHORT_STRETCH_RATIO * model.radius;
     grid.for_each_in_box(&lo, &hi, |i| {
         let q = samples.positions[i];
         let w0 = q - first.position;
@@ -355,42 +348,49 @@ pub(super) fn deposit_piece(
         if s1 <= s0 {
             return;
         }
-        // The chord in arc length, cut where the segments change.
+        // The chord in arc length; the rate at its three Gauss nodes.
         let (a0, a1) = (s0 * to_arc, s1 * to_arc);
-        let mut hint = 0;
-        let mut segment = segments.partition_point(|&x| x <= a0).saturating_sub(1);
+        let (mid, half) = (0.5 * (a0 + a1), 0.5 * (a1 - a0));
+        // The move the chord starts in; the nodes along it walk on from there.
+        let mut hint = cumulative[1..].partition_point(|&c| c < a0);
+        let n = &samples.normals[i];
+        let f = GAUSS_NODES.map(|x| {
+            let (gun, axis) = pose_at(poses, cumulative, mid + half * x, &mut hint);
+            model.rate(&(q - gun), &axis, n)
+        });
+        let first = segments.partition_point(|&x| x <= a0).saturating_sub(1);
+        if segments.get(first + 1).is_none_or(|&x| x >= a1) {
+            // One segment: Gauss–Legendre over the chord.
+            let sum: Real = f.iter().zip(&GAUSS_WEIGHTS).map(|(f, w)| f * w).sum();
+            if sum > 0.0 {
+                add(i, first, sum * half);
+            }
+            return;
+        }
+        // Several: the quadratic through the three nodes (the rate itself on a plane under
+        // a constant axis), integrated over each stretch; the stretches sum to the
+        // Gauss–Legendre value.
+        let integral = |t: Real| {
+            let (t2, t3) = (t * t, t * t * t / 3.0);
+            let c = GAUSS_NODES[2];
+            f[0] * (t3 - 0.5 * c * t2) / (2.0 * c * c)
+                + f[1] * (t - t3 / (c * c))
+                + f[2] * (t3 + 0.5 * c * t2) / (2.0 * c * c)
+        };
+        let mut lower = integral(-1.0);
+        let mut segment = first;
         // Each round moves to the next segment, so the loop ends.
         while segment < segments.len() {
-            let from = a0.max(segments[segment]);
             let to = segments.get(segment + 1).map_or(a1, |&x| a1.min(x));
-            if to > from {
-                let (mid, half) = (0.5 * (from + to), 0.5 * (to - from));
-                let n = &samples.normals[i];
-                let sum = if to - from <= short {
-                    GAUSS2_NODES
-                        .iter()
-                        .map(|x| {
-                            let (gun, axis) = pose_at(poses, cumulative, mid + half * x, &mut hint);
-                            model.rate(&(q - gun), &axis, n)
-                        })
-                        .sum::<Real>()
-                } else {
-                    GAUSS_NODES
-                        .iter()
-                        .zip(&GAUSS_WEIGHTS)
-                        .map(|(x, wt)| {
-                            let (gun, axis) = pose_at(poses, cumulative, mid + half * x, &mut hint);
-                            wt * model.rate(&(q - gun), &axis, n)
-                        })
-                        .sum::<Real>()
-                };
-                if sum > 0.0 {
-                    add(i, segment, sum * half);
-                }
+            let upper = integral(((to - mid) / half).clamp(-1.0, 1.0));
+            let v = half * (upper - lower);
+            if v > 0.0 {
+                add(i, segment, v);
             }
             if to >= a1 {
                 break;
             }
+            lower = upper;
             segment += 1;
         }
     });

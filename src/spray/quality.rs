@@ -126,12 +126,26 @@ pub fn interior_mask(
         return vec![true; samples.len()];
     }
     let grid = PointGrid::new(&pieces, piece);
-    let reach = crate::math::Vector3::repeat(1.25 * band);
+    let reach = 1.25 * band;
+    // The pieces within reach of a cube of side `piece` are listed once for all the samples
+    // in it (samples come stored cell by cell, so runs share a cube); far from the boundary
+    // the list is empty.
+    let mut cube: Option<[i64; 3]> = None;
+    let mut near: Vec<u32> = Vec::new();
     samples
         .iter()
         .map(|x| {
-            !grid.any_in_box(&(x.coords - reach), &(x.coords + reach), |i| {
-                let (p, q) = ends[i];
+            // Finite: samples lie on validated faces.
+            let key = [0, 1, 2].map(|a| (x[a] / piece).floor() as i64);
+            if cube != Some(key) {
+                cube = Some(key);
+                near.clear();
+                let lo = crate::math::Vector3::from(key.map(|k| k as Real * piece - reach));
+                let hi = crate::math::Vector3::from(key.map(|k| (k + 1) as Real * piece + reach));
+                grid.for_each_in_box(&lo, &hi, |i| near.push(i as u32));
+            }
+            !near.iter().any(|&i| {
+                let (p, q) = ends[i as usize];
                 let d = q - p;
                 let t =
                     ((x - p).dot(&d) / d.norm_squared().max(Real::MIN_POSITIVE)).clamp(0.0, 1.0);
