@@ -57,6 +57,10 @@ test('a default plan colours the path by optimised speed within 200–800 mm/s a
   assert.match(summary, /spray path [\d.,]+ m, whole path [\d.,]+ m/);
   assert.match(summary, /gun speed optimised along the passes, [\d.,]+–[\d.,]+ mm\/s commanded \(limits 200–800 mm\/s\)/);
   assert.match(summary, /along the principal direction/);
+  // The sample's upper skin is large: its samples lie farther apart than R/2 (R = 91 mm at the
+  // defaults), and the summary says what that means for the figures.
+  const every = Number(summary.match(/evaluated every ([\d.,]+) mm/)[1].replace(/,/g, ''));
+  assert.equal(/more than half the spray radius \(R = 91 mm\)/.test(summary), every > 45.5, summary);
   assert.match(await text(page, '#spray-verdict'), /^(Meets the limits|Limits not met)/);
   // The worst regions are listed (and ringed on the map) with their cause.
   const spots = await page.locator('#spray-hotspots li').allTextContents();

@@ -642,7 +642,8 @@ class SprayTool {
       `whole path ${num((result.pathLength * mm) / 1000, 3)} m with the links. ` +
       (result.passCount > MAX_PASSES_SHOWN && !v.showPath ? 'The path is hidden so the thickness shows: tick Path below. ' : '') +
       `Thickness evaluated every ${num(result.resolution * mm, 3)} mm` +
-      (result.coarsened ? ' (coarsened on this large patch to keep planning quick).' : '.');
+      (result.coarsened ? ' (coarsened on this large patch to keep planning quick).' : '.') +
+      coarseWarning(result.resolution, request.params, mm);
 
     const q = result.quality;
     const rows = [
@@ -977,3 +978,12 @@ function timeText(seconds) {
 }
 
 export const sprayTool = new SprayTool();
+
+/** A warning when the figures rest on samples more than R/2 apart (R the spray radius): the
+ *  ripple between passes, about R apart, then falls between samples. */
+function coarseWarning(resolution, params, mm) {
+  const radius = params.standoff * Math.tan(params.coneAngle / 2);
+  if (!(resolution > 0.5 * radius)) return '';
+  return ` That is more than half the spray radius (R = ${num(radius * mm, 3)} mm): the ripple between ` +
+    'passes can fall between samples, so δ and E may be understated; a smaller patch (θmax in Segment) is evaluated finer.';
+}

@@ -13,26 +13,32 @@ export function onMeshChanged() {
 }
 
 /**
- * The core splits each face into k² sub-triangles, k = ceil(longest edge / resolution), so
- * long slender faces cost far more samples than their area suggests. Returns the finest
- * resolution (≥ `resolution`) whose sample count stays within `budget`, counting
- * (k+1)(k+2)/2 points a face (an upper bound: shared edge points count twice). No paper:
- * a bisection on a count that falls as the resolution grows; 40 steps at most.
+ * The core splits each face into k² sub-triangles, k = ceil(longest edge / resolution) but at
+ * most ceil(2·√area / resolution) (so slivers stay cheap), so long slender faces cost more
+ * samples than their area suggests. Returns the finest resolution (≥ `resolution`) whose
+ * sample count stays within `budget`, counting (k+1)(k+2)/2 points a face (an upper bound:
+ * shared edge points count twice). No paper: a bisection on a count that falls as the
+ * resolution grows; 40 steps at most.
  */
 function fitResolution(ctx, faces, resolution, budget) {
   const { positions: P, indices: I } = ctx.welded();
   const n = faces ? faces.length : I.length / 3;
   const longest = new Float64Array(n);
+  const root = new Float64Array(n); // 2·√area
   for (let i = 0; i < n; i++) {
     const f = faces ? faces[i] : i;
     const [a, b, c] = [3 * I[3 * f], 3 * I[3 * f + 1], 3 * I[3 * f + 2]];
     const d = (u, v) => Math.hypot(P[u] - P[v], P[u + 1] - P[v + 1], P[u + 2] - P[v + 2]);
     longest[i] = Math.max(d(a, b), d(b, c), d(c, a));
+    const [ux, uy, uz] = [P[b] - P[a], P[b + 1] - P[a + 1], P[b + 2] - P[a + 2]];
+    const [vx, vy, vz] = [P[c] - P[a], P[c + 1] - P[a + 1], P[c + 2] - P[a + 2]];
+    const area = 0.5 * Math.hypot(uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx);
+    root[i] = 2 * Math.sqrt(area);
   }
   const count = (r) => {
     let total = 0;
     for (let i = 0; i < n; i++) {
-      const k = Math.max(1, Math.ceil(longest[i] / r));
+      const k = Math.max(1, Math.min(Math.ceil(longest[i] / r), Math.ceil(root[i] / r)));
       total += ((k + 1) * (k + 2)) / 2;
     }
     return total;
