@@ -18,6 +18,7 @@
 //! Cost: O(n log n) whatever the valence (O(n) at bounded valence); about 30 bytes a face
 //! of scratch, read in contiguous runs per vertex.
 
+use super::union_find::{flatten, union_smallest};
 use super::TriMesh;
 
 /// Marks a face edge with no neighbour across it (boundary, non-manifold or collapsed).
@@ -166,24 +167,14 @@ fn number_components(of_face: &[u32], parts: usize, books: &[[u32; 2]]) -> (Vec<
     // Union–find over parts, the smaller part the root: a component's smallest part holds
     // its first face.
     let mut root: Vec<u32> = (0..parts as u32).collect();
-    let find = |root: &mut [u32], mut x: u32| -> u32 {
-        // Ends: a parent is never larger than its child, so x decreases.
-        while root[x as usize] != x {
-            let up = root[root[x as usize] as usize];
-            root[x as usize] = up;
-            x = up;
-        }
-        x
-    };
     for &[f, g] in books {
-        let a = find(&mut root, of_face[f as usize] >> 1);
-        let b = find(&mut root, of_face[g as usize] >> 1);
-        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-        root[hi as usize] = lo;
+        union_smallest(
+            &mut root,
+            of_face[f as usize] >> 1,
+            of_face[g as usize] >> 1,
+        );
     }
-    for p in 0..parts {
-        root[p] = find(&mut root, p as u32);
-    }
+    flatten(&mut root);
     let mut count = 0u32;
     for p in 0..parts {
         let r = root[p] as usize;

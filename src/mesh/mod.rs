@@ -8,6 +8,7 @@ mod orientation;
 mod spatial_index;
 mod stl;
 mod tri_mesh;
+mod union_find;
 mod weld;
 
 /// How often (in faces) long loops report progress.
@@ -22,4 +23,5 @@ pub use stl::{
     read_stl, read_stl_with_progress, write_stl, StlError, StlFormat, StlImport, StlInfo,
 };
 pub use tri_mesh::{MeshError, TriMesh};
+pub use union_find::{find_root, flatten, union_smallest};
 pub use weld::Welder;

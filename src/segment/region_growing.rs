@@ -16,7 +16,7 @@
 
 use super::GrowthThreshold;
 use crate::math::{angle_between, cos, larger, Real};
-use crate::mesh::{FaceAdjacency, FaceGeometry};
+use crate::mesh::{flatten, union_smallest, FaceAdjacency, FaceGeometry};
 
 /// Step-1 regions: `region_of[f]` for every face, ids `0..count` in order of their seeds.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -241,27 +241,14 @@ impl Search<'_> {
 fn components(adjacency: &FaceAdjacency, mut joins: impl FnMut(usize, usize) -> bool) -> Vec<u32> {
     let n = adjacency.face_count();
     let mut parent: Vec<u32> = (0..n as u32).collect();
-    let find = |parent: &mut [u32], mut x: u32| -> u32 {
-        // Ends: a parent is never larger than its child, so x decreases.
-        while parent[x as usize] != x {
-            let up = parent[parent[x as usize] as usize];
-            parent[x as usize] = up;
-            x = up;
-        }
-        x
-    };
     for f in 0..n {
         for g in adjacency.neighbours_of(f) {
             if g > f && joins(f, g) {
-                let (rf, rg) = (find(&mut parent, f as u32), find(&mut parent, g as u32));
-                let (lo, hi) = if rf < rg { (rf, rg) } else { (rg, rf) };
-                parent[hi as usize] = lo;
+                union_smallest(&mut parent, f as u32, g as u32);
             }
         }
     }
-    for f in 0..n {
-        parent[f] = find(&mut parent, f as u32);
-    }
+    flatten(&mut parent);
     parent
 }
 
