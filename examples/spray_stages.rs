@@ -4,7 +4,7 @@
 //! (`npm run bench -- spray` measures the WebAssembly build end to end.)
 //! Environment: `MAX_ERROR`, `MIN_SPACING`, `MAX_SPACING` set the search's limits (default
 //! maxError 0.2); `CPU_TIME=1` reports process CPU time (steadier than wall time on a shared
-//! machine; Linux); `ONLY_PLAN=1` stops after the single plan.
+//! machine; Linux); `ONLY_PLAN=1` stops after the single plan, `ONLY_SEARCH=1` skips it.
 
 use skinpath::mesh::{orient_consistently, read_stl, FaceAdjacency, FaceGeometry};
 use skinpath::segment::{segment, SegmentParams};
@@ -64,25 +64,27 @@ fn main() {
         );
     };
     let cpu = std::env::var_os("CPU_TIME").is_some();
-    let t = Instant::now();
-    let c0 = cpu_ms();
-    let one = plan_spray(&mesh, &adjacency, &geometry, &faces, &p, &mut |_, _| {})
-        .unwrap_or_else(|e| panic!("plan failed: {e}"));
-    report(
-        "one plan",
-        &one,
-        if cpu {
-            c0
-        } else {
-            t.elapsed().as_secs_f64() * 1e3
-        },
-    );
-    if std::env::var_os("SPRAY_WHERE").is_some() {
-        let frame = patch_frame(&mesh, &geometry, &faces, None, p.raster_angle)
-            .unwrap_or_else(|e| panic!("frame failed: {e}"));
-        where_extremes(&one, &frame.across);
-        let n = frame.arc.len() - 1;
-        println!(
+    // `ONLY_SEARCH=1` skips the single plan.
+    if std::env::var_os("ONLY_SEARCH").is_none() {
+        let t = Instant::now();
+        let c0 = cpu_ms();
+        let one = plan_spray(&mesh, &adjacency, &geometry, &faces, &p, &mut |_, _| {})
+            .unwrap_or_else(|e| panic!("plan failed: {e}"));
+        report(
+            "one plan",
+            &one,
+            if cpu {
+                c0
+            } else {
+                t.elapsed().as_secs_f64() * 1e3
+            },
+        );
+        if std::env::var_os("SPRAY_WHERE").is_some() {
+            let frame = patch_frame(&mesh, &geometry, &faces, None, p.raster_angle)
+                .unwrap_or_else(|e| panic!("frame failed: {e}"));
+            where_extremes(&one, &frame.across);
+            let n = frame.arc.len() - 1;
+            println!(
             "  width {:.3}, arc {:.3}; arc at quarters {:.3} {:.3} {:.3}; offsets at 0.09: {:?}",
             frame.width(),
             frame.arc[n],
@@ -91,9 +93,10 @@ fn main() {
             frame.arc[3 * n / 4],
             frame.plane_offsets(0.09).map(|o| o.len())
         );
-    }
-    if std::env::var_os("ONLY_PLAN").is_some() {
-        return;
+        }
+        if std::env::var_os("ONLY_PLAN").is_some() {
+            return;
+        }
     }
     let q = SprayParams {
         quality: Some(QualityLimits {

@@ -814,6 +814,7 @@ fn a_slowed_pass_is_brought_back_to_the_uniform_speed() {
         time_step,
         R / 5.0,
         &|s| s.error,
+        f64::NEG_INFINITY,
     )
     .unwrap();
     let even = stats(&out.thickness);

@@ -661,7 +661,7 @@ fn ridge_and_flat(beta: f64, max_turn_on: f64) -> (f64, f64, TrajectoryCounts) {
         standoff: H,
     };
     let faces: Vec<u32> = (0..m.mesh.triangle_count() as u32).collect();
-    let samples = sample_faces(&m.mesh, &m.geometry, &faces, 5.0).unwrap();
+    let samples = sample_faces(&m.mesh, &m.adjacency, &m.geometry, &faces, 5.0).unwrap();
     let grid = PointGrid::new(&samples.positions, radius / 2.0);
     let t = deposit(
         &path,

@@ -59,16 +59,39 @@ impl SprayModel {
         if wn <= 0.0 {
             return 0.0;
         }
-        let rho2 = (w.norm_squared() - l * l).max(0.0);
+        let rho2 = at_least(w.norm_squared() - l * l, 0.0);
         // r on the plane at distance h along the same ray: r² = ρ²·h²/l².
         let inv_l = 1.0 / l;
         let h_over_l2 = self.standoff * self.standoff * inv_l * inv_l;
-        let r2_over_big_r2 = rho2 * h_over_l2 / (self.radius * self.radius);
+        // h²/R² does not depend on the point: the compiler takes the division out of loops.
+        let r2_over_big_r2 =
+            rho2 * inv_l * inv_l * (self.standoff * self.standoff / (self.radius * self.radius));
         if r2_over_big_r2 >= 1.0 {
             return 0.0;
         }
         // cos λ / cos θ = (−w·n/|w|) / (l/|w|) = −w·n / l: no square root.
         self.peak_rate * (1.0 - r2_over_big_r2) * h_over_l2 * wn * inv_l
+    }
+}
+
+/// `max(x, lo)` for finite values by one comparison: `f64::max` also handles NaN, which
+/// WebAssembly's own `max` does not, so it becomes a call there, in the innermost loop.
+#[inline]
+fn at_least(x: Real, lo: Real) -> Real {
+    if x < lo {
+        lo
+    } else {
+        x
+    }
+}
+
+/// `min(x, hi)` for finite values by one comparison (see [`at_least`]).
+#[inline]
+fn at_most(x: Real, hi: Real) -> Real {
+    if x > hi {
+        hi
+    } else {
+        x
     }
 }
 
@@ -115,6 +138,20 @@ pub fn deposit(
     speed: Real,
     time_step: Real,
 ) -> Result<Vec<Real>, SprayError> {
+    deposit_except(path, samples, grid, model, speed, time_step, None)
+}
+
+/// [`deposit`], leaving 0 on the samples marked in `known` (their thickness is known
+/// already, from the speed optimiser): they are not visited at all.
+pub(super) fn deposit_except(
+    path: &ToolPath,
+    samples: &EvaluationSamples,
+    grid: &PointGrid,
+    model: &SprayModel,
+    speed: Real,
+    time_step: Real,
+    known: Option<&[bool]>,
+) -> Result<Vec<Real>, SprayError> {
     let step_length = check_time_samples(path, speed, time_step)?;
     let mut thickness = vec![0.0; samples.positions.len()];
     let varying = path.has_varying_speed();
@@ -132,6 +169,7 @@ pub fn deposit(
                 grid,
                 model,
                 step_length,
+                known,
                 &mut |i, segment, v| thickness[i] += v / speeds[segment],
             );
         },
@@ -237,12 +275,14 @@ fn cone_box(model: &SprayModel, gun: &Point3, axis: &Vector3) -> (Vector3, Vecto
     (gun.coords.inf(&(tip - half)), gun.coords.sup(&(tip + half)))
 }
 
-/// Gun position and unit axis at arc length `sigma` along a piece; `hint` is the move the
-/// previous call ended in (the search walks on from there when `sigma` lies further on, as
-/// it does along one chord) and is updated.
+/// Gun position and unit axis at arc length `sigma` along a piece (`inverse`: one over each
+/// move's length, 0 for a move of none); `hint` is the move the previous call ended in (the
+/// search walks on from there when `sigma` lies further on, as it does along one chord) and
+/// is updated.
 fn pose_at(
     poses: &[Pose],
     cumulative: &[Real],
+    inverse: &[Real],
     sigma: Real,
     hint: &mut usize,
 ) -> (Point3, Vector3) {
@@ -259,21 +299,26 @@ fn pose_at(
     }
     *hint = k;
     let (p0, p1) = (&poses[k], &poses[k + 1]);
-    let length = cumulative[k + 1] - cumulative[k];
-    let tau = if length > 0.0 {
-        ((sigma - cumulative[k]) / length).clamp(0.0, 1.0)
+    let tau = if inverse[k] > 0.0 {
+        ((sigma - cumulative[k]) * inverse[k]).clamp(0.0, 1.0)
     } else {
         0.5
     };
     let gun = p0.position + (p1.position - p0.position) * tau;
-    let axis = (p0.axis * (1.0 - tau) + p1.axis * tau).normalize();
-    (gun, axis)
+    if p0.axis == p1.axis {
+        // A move under one axis (a pass along a flat or ruled strip): nothing to blend.
+        return (gun, p0.axis);
+    }
+    // One division, not three (nalgebra's normalize divides each component).
+    let axis = p0.axis * (1.0 - tau) + p1.axis * tau;
+    (gun, axis * (1.0 / axis.norm()))
 }
 
 /// Hands `add(sample, segment, ∫ rate ds)` the coating of one piece (`poses`, arc lengths
 /// `cumulative` from its start) per unit of gun speed, split into the segments of the piece
 /// that start at the arc lengths `segments` (increasing, the first 0): divided by the
-/// segment's speed, it is the thickness added. A sample may be handed more than once.
+/// segment's speed, it is the thickness added. A sample may be handed more than once;
+/// samples marked in `skip` are not.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn deposit_piece(
     poses: &[Pose],
@@ -283,6 +328,7 @@ pub(super) fn deposit_piece(
     grid: &PointGrid,
     model: &SprayModel,
     step_length: Real,
+    skip: Option<&[bool]>,
     add: &mut dyn FnMut(usize, usize, Real),
 ) {
     let arc = cumulative[cumulative.len() - 1];
@@ -310,6 +356,7 @@ pub(super) fn deposit_piece(
             grid,
             model,
             step_length,
+            skip,
             add,
         );
         return;
@@ -321,7 +368,25 @@ pub(super) fn deposit_piece(
     let margin = Vector3::repeat(reach * CHUNK_TURN_RAD);
     let (lo, hi) = (lo0.inf(&lo1) - margin, hi0.sup(&hi1) + margin);
     let to_arc = arc / line;
+    // Multiplications in the loop below, not divisions (ua is only used when non-zero).
+    let inverse: Vec<Real> = cumulative
+        .windows(2)
+        .map(|c| {
+            // 0 also for a length so small its inverse overflows: the move's middle then.
+            let inverse = 1.0 / (c[1] - c[0]);
+            if inverse.is_finite() && inverse > 0.0 {
+                inverse
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let inv_c2 = 1.0 / c2;
+    let inv_ua = if ua != 0.0 { 1.0 / ua } else { 0.0 };
     grid.for_each_in_box(&lo, &hi, |i| {
+        if skip.is_some_and(|s| s[i]) {
+            return;
+        }
         let q = samples.positions[i];
         let w0 = q - first.position;
         let l0 = w0.dot(&mean_axis);
@@ -333,15 +398,15 @@ pub(super) fn deposit_piece(
             return;
         }
         let root = disc.sqrt();
-        let mut s0 = ((b1 - root) / c2).max(0.0);
-        let mut s1 = ((b1 + root) / c2).min(line);
+        let mut s0 = at_least((b1 - root) * inv_c2, 0.0);
+        let mut s1 = at_most((b1 + root) * inv_c2, line);
         // In front of the gun (l > 0) and within the reach (l ≤ reach); l is linear in s.
         if ua > 0.0 {
-            s1 = s1.min(l0 / ua);
-            s0 = s0.max((l0 - reach) / ua);
+            s1 = at_most(s1, l0 * inv_ua);
+            s0 = at_least(s0, (l0 - reach) * inv_ua);
         } else if ua < 0.0 {
-            s0 = s0.max(l0 / ua);
-            s1 = s1.min((l0 - reach) / ua);
+            s0 = at_least(s0, l0 * inv_ua);
+            s1 = at_most(s1, (l0 - reach) * inv_ua);
         } else if l0 <= 0.0 || l0 > reach {
             return;
         }
@@ -355,7 +420,7 @@ pub(super) fn deposit_piece(
         let mut hint = cumulative[1..].partition_point(|&c| c < a0);
         let n = &samples.normals[i];
         let f = GAUSS_NODES.map(|x| {
-            let (gun, axis) = pose_at(poses, cumulative, mid + half * x, &mut hint);
+            let (gun, axis) = pose_at(poses, cumulative, &inverse, mid + half * x, &mut hint);
             model.rate(&(q - gun), &axis, n)
         });
         let first = segments.partition_point(|&x| x <= a0).saturating_sub(1);
@@ -407,6 +472,7 @@ fn deposit_stepped(
     grid: &PointGrid,
     model: &SprayModel,
     step_length: Real,
+    skip: Option<&[bool]>,
     add: &mut dyn FnMut(usize, usize, Real),
 ) {
     for (m, pair) in poses.windows(2).enumerate() {
@@ -425,6 +491,9 @@ fn deposit_stepped(
             let axis = (p0.axis * (1.0 - tau) + p1.axis * tau).normalize();
             let (lo, hi) = cone_box(model, &gun, &axis);
             grid.for_each_in_box(&lo, &hi, |i| {
+                if skip.is_some_and(|s| s[i]) {
+                    return;
+                }
                 let w = samples.positions[i] - gun;
                 let f = model.rate(&w, &axis, &samples.normals[i]);
                 if f > 0.0 {

@@ -91,6 +91,15 @@ impl PointGrid {
         &self.ids
     }
 
+    /// This grid over the points reordered by [`PointGrid::order`] (point `k` of the new
+    /// order is point `order()[k]`): the same cells, ids renumbered, no second bucketing.
+    pub fn reordered(mut self) -> PointGrid {
+        for (k, id) in self.ids.iter_mut().enumerate() {
+            *id = k as u32;
+        }
+        self
+    }
+
     /// Whether `found(id)` holds for some point in a cell overlapping the box `[lo, hi]`;
     /// stops at the first.
     pub fn any_in_box(
@@ -128,5 +137,50 @@ impl PointGrid {
             visit(id);
             false
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The points of a box query, sorted.
+    fn query(grid: &PointGrid, lo: [Real; 3], hi: [Real; 3]) -> Vec<usize> {
+        let mut found = Vec::new();
+        grid.for_each_in_box(&Vector3::from(lo), &Vector3::from(hi), |i| found.push(i));
+        found.sort_unstable();
+        found
+    }
+
+    #[test]
+    fn a_reordered_grid_is_the_grid_of_the_reordered_points() {
+        // A scattered cloud (a fixed sequence), several points per cell.
+        let points: Vec<Point3> = (0..500)
+            .map(|i| {
+                let t = i as Real;
+                Point3::new(
+                    (t * 0.618).fract() * 10.0,
+                    (t * 0.414).fract() * 7.0,
+                    (t * 0.732).fract(),
+                )
+            })
+            .collect();
+        let grid = PointGrid::new(&points, 1.3);
+        let order = grid.order().to_vec();
+        let moved: Vec<Point3> = order.iter().map(|&i| points[i as usize]).collect();
+        let fresh = PointGrid::new(&moved, 1.3);
+        let reordered = grid.reordered();
+        assert_eq!(reordered.start, fresh.start);
+        assert_eq!(reordered.ids, fresh.ids);
+        // And its queries are those of the first grid, renumbered.
+        let first = PointGrid::new(&points, 1.3);
+        let (lo, hi) = ([2.0, 1.0, 0.0], [5.5, 4.0, 0.6]);
+        let mut renumbered: Vec<usize> = query(&reordered, lo, hi)
+            .iter()
+            .map(|&k| order[k] as usize)
+            .collect();
+        renumbered.sort_unstable();
+        assert_eq!(renumbered, query(&first, lo, hi));
+        assert!(!renumbered.is_empty());
     }
 }

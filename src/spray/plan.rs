@@ -22,7 +22,7 @@
 //!         target included). With `bestDirection`, the pass direction turned by 90° and ±45°
 //!         is tried at the chosen spacing too (no paper).
 
-use super::deposition::{deposit, SprayModel};
+use super::deposition::{deposit, deposit_except, SprayModel};
 use super::grid::PointGrid;
 use super::params::{SprayError, SprayParams};
 use super::quality::{evaluate_quality, interior_mask, Quality, ThicknessStats};
@@ -162,6 +162,8 @@ struct Sampling {
     samples: EvaluationSamples,
     grid: PointGrid,
     interior: Vec<bool>,
+    /// For samples thinned from others: the index of each among those.
+    origin: Vec<usize>,
     /// The same samples thinned to one per cube of the resolution, when that leaves at most
     /// [`SOLVE_SAMPLE_FRACTION`] of them (a mesh finer than the resolution): the speed
     /// optimiser solves on these, and the plan's speeds are then deposited on all samples.
@@ -178,6 +180,7 @@ impl Sampling {
             resolution: cell,
             grid: PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius),
             interior: origin.iter().map(|&i| self.interior[i]).collect(),
+            origin,
             samples,
             solve: None,
         })
@@ -207,11 +210,11 @@ impl Sampling {
         radius: Real,
         edge_exclusion: Real,
     ) -> Result<Sampling, SprayError> {
-        let samples = sample_faces(mesh, geometry, &frame.faces, resolution)?;
+        let samples = sample_faces(mesh, adjacency, geometry, &frame.faces, resolution)?;
         // Samples stored cell by cell, so a cone's box reads them from few cache lines.
-        let samples =
-            samples.permuted(PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius).order());
         let grid = PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius);
+        let samples = samples.permuted(grid.order());
+        let grid = grid.reordered();
         let interior = interior_mask(
             mesh,
             adjacency,
@@ -225,6 +228,7 @@ impl Sampling {
             samples,
             grid,
             interior,
+            origin: Vec::new(),
             solve: None,
         })
     }
@@ -287,7 +291,7 @@ impl Setup<'_> {
         let v0 = self.params.speed;
         let mut speed = v0;
         let (mut path, counts, passes) = self.trajectory(frame, spacing)?;
-        // Thickness straight from the optimiser when it solved on these very samples.
+        // Thickness straight from the optimiser on the samples it solved on.
         let mut solved = None;
         if self.params.optimise_speed {
             let solve = sampling.solve.as_deref().unwrap_or(sampling);
@@ -303,15 +307,41 @@ impl Setup<'_> {
                 self.time_step,
                 solve.resolution,
                 &|s| self.score(s),
+                // A screening asks only whether the limits are met (excess below 1): it
+                // stops reweighting at the first round that meets them. The plans the
+                // search may deliver (full samples) get every round.
+                match (&self.limits, std::ptr::eq(sampling, &self.full)) {
+                    (Some(_), false) => 1.0,
+                    _ => Real::NEG_INFINITY,
+                },
             )?;
             path = plan.path;
-            solved = sampling.solve.is_none().then_some(plan.thickness);
+            solved = Some(plan.thickness);
         }
-        // Otherwise the path (at its speeds, when solved on thinned samples) deposited on
-        // every sample.
-        let mut thickness = match solved {
-            Some(t) => t,
-            None => deposit(
+        // Otherwise the path (at its speeds) deposited on every sample, but for those the
+        // optimiser solved on (thinned from these): the same sums, in another order.
+        let mut thickness = match (solved, sampling.solve.as_deref()) {
+            (Some(t), None) => t,
+            (Some(t), Some(solve)) => {
+                let mut known = vec![false; sampling.samples.positions.len()];
+                for &i in &solve.origin {
+                    known[i] = true;
+                }
+                let mut all = deposit_except(
+                    &path,
+                    &sampling.samples,
+                    &sampling.grid,
+                    &self.model,
+                    v0,
+                    self.time_step,
+                    Some(&known),
+                )?;
+                for (&i, &ti) in solve.origin.iter().zip(&t) {
+                    all[i] = ti;
+                }
+                all
+            }
+            (None, _) => deposit(
                 &path,
                 &sampling.samples,
                 &sampling.grid,
@@ -698,26 +728,33 @@ fn hotspots(
     let sampling = &setup.full;
     let radius = setup.model.radius;
     let any_interior = sampling.interior.iter().any(|&i| i);
-    let mut order: Vec<usize> = (0..thickness.len())
-        .filter(|&i| sampling.interior[i] || !any_interior)
-        .collect();
     let deviation = |i: usize| (thickness[i] - mean) / mean;
-    order.sort_by(|&a, &b| deviation(b).abs().total_cmp(&deviation(a).abs()));
+    let candidate = |i: &usize| sampling.interior[*i] || !any_interior;
     let positions = &sampling.samples.positions;
+    // Beyond a tenth of the worst, a region is no longer among the worst.
+    let worst = (0..thickness.len())
+        .filter(candidate)
+        .fold(0.0, |m: Real, i| m.max(deviation(i).abs()));
+    // Worst first, each at least R from those picked before (ties to the lower sample):
+    // each round scans the candidates once, so this is linear, not a sort.
     let mut picked: Vec<usize> = Vec::new();
-    for &i in &order {
-        if picked.len() == MAX_HOTSPOTS {
-            break;
+    while picked.len() < MAX_HOTSPOTS {
+        let mut next: Option<(Real, usize)> = None;
+        for i in (0..thickness.len()).filter(candidate) {
+            let d = deviation(i).abs();
+            if d < 0.1 * worst || next.is_some_and(|(best, _)| d <= best) {
+                continue;
+            }
+            if picked
+                .iter()
+                .all(|&k| (positions[k] - positions[i]).norm() >= radius)
+            {
+                next = Some((d, i));
+            }
         }
-        // Beyond a tenth of the worst, a region is no longer among the worst.
-        if deviation(i).abs() < 0.1 * deviation(order[0]).abs() {
-            break;
-        }
-        if picked
-            .iter()
-            .all(|&k| (positions[k] - positions[i]).norm() >= radius)
-        {
-            picked.push(i);
+        match next {
+            Some((_, i)) => picked.push(i),
+            None => break,
         }
     }
     let points: Vec<Point3> = picked.iter().map(|&i| positions[i]).collect();

@@ -57,8 +57,13 @@ pub fn thickness_stats(
         if keep(i) && w > 0.0 {
             area += w;
             sum += w * t;
-            min = min.min(t);
-            max = max.max(t);
+            // As `f64::min`/`max` (a NaN is passed over), without their calls in WebAssembly.
+            if t < min {
+                min = t;
+            }
+            if t > max {
+                max = t;
+            }
         }
     }
     if area <= 0.0 {
@@ -127,11 +132,23 @@ pub fn interior_mask(
     }
     let grid = PointGrid::new(&pieces, piece);
     let reach = 1.25 * band;
+    let distance = |x: &Point3, i: u32| {
+        let (p, q) = ends[i as usize];
+        let d = q - p;
+        let t = ((x - p).dot(&d) / d.norm_squared().max(Real::MIN_POSITIVE)).clamp(0.0, 1.0);
+        (x - (p + d * t)).norm()
+    };
+    // Every point of a cube lies within its half-diagonal of the centre (a little more,
+    // for rounding), so a piece farther than `band` plus that from the centre is beyond
+    // `band` from each of its samples, and one nearer than `band` less that is within
+    // `band` of all of them: those cubes are decided once, not sample by sample.
+    let half_diagonal = 0.5 * piece * 3f64.sqrt() * (1.0 + 1e-9);
     // The pieces within reach of a cube of side `piece` are listed once for all the samples
     // in it (samples come stored cell by cell, so runs share a cube); far from the boundary
     // the list is empty.
     let mut cube: Option<[i64; 3]> = None;
     let mut near: Vec<u32> = Vec::new();
+    let mut all_near = false;
     samples
         .iter()
         .map(|x| {
@@ -140,17 +157,21 @@ pub fn interior_mask(
             if cube != Some(key) {
                 cube = Some(key);
                 near.clear();
+                all_near = false;
                 let lo = crate::math::Vector3::from(key.map(|k| k as Real * piece - reach));
                 let hi = crate::math::Vector3::from(key.map(|k| (k + 1) as Real * piece + reach));
-                grid.for_each_in_box(&lo, &hi, |i| near.push(i as u32));
+                let centre = Point3::from(key.map(|k| (k as Real + 0.5) * piece));
+                grid.any_in_box(&lo, &hi, |i| {
+                    let d = distance(&centre, i as u32);
+                    if d + half_diagonal < band {
+                        all_near = true;
+                    } else if d - half_diagonal < band {
+                        near.push(i as u32);
+                    }
+                    all_near
+                });
             }
-            !near.iter().any(|&i| {
-                let (p, q) = ends[i as usize];
-                let d = q - p;
-                let t =
-                    ((x - p).dot(&d) / d.norm_squared().max(Real::MIN_POSITIVE)).clamp(0.0, 1.0);
-                (x - (p + d * t)).norm() < band
-            })
+            !all_near && !near.iter().any(|&i| distance(x, i) < band)
         })
         .collect()
 }

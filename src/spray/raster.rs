@@ -6,9 +6,11 @@
 //! Input:  mesh, face adjacency and geometry; the selected faces; pass direction; spacing.
 //! Output: per plane, the passes (polylines of edge crossings with the face of each segment),
 //!         oriented along the pass direction and ordered along it.
-//! Cost:   O(F log P + S log S) for F selected faces, P planes and S scan segments: each
-//!         face is bucketed (binary search) to the planes its extent spans, and segments of one plane are chained through the
-//!         face adjacency (no search).
+//! Cost:   O(F + S log S) per set of planes for F selected faces and S scan segments: a face
+//!         is bucketed to the planes its extent spans (a table of 2¹⁶ bins over the patch,
+//!         built with the frame, clears the faces no plane crosses; the others are binary
+//!         searched), and segments of one plane are chained through the face adjacency (no
+//!         search).
 //! Deviations (no paper for these): the default pass direction is the principal axis of
 //!         the patch in its mean plane (area-weighted vertex covariance); `b` is measured
 //!         along the surface across the passes, not in space: a table of the surface
@@ -63,6 +65,10 @@ pub struct PatchFrame {
     pub across: Vector3,
     /// Smallest and largest `across·x` over the patch's vertices.
     pub extent: (Real, Real),
+    /// Per face of `faces`: smallest and largest `across·x` over its corners.
+    pub spans: Vec<(Real, Real)>,
+    /// The [`PatchFrame::bin_of`] of each span's ends.
+    pub span_bins: Vec<(u32, u32)>,
     /// Size of the patch (bounding-box diagonal), for relative tolerances.
     pub size: Real,
     /// Total area.
@@ -169,22 +175,45 @@ pub fn patch_frame(
     travel = travel * libm::cos(raster_angle) + normal.cross(&travel) * libm::sin(raster_angle);
     travel = (travel - normal * normal.dot(&travel)).normalize();
     let across = normal.cross(&travel);
+    // By comparisons: `f64::min`/`max` (and nalgebra's `inf`/`sup`) also handle NaN, which
+    // makes them calls in WebAssembly; every value here is finite on a validated mesh.
     let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
     let (mut bmin, mut bmax) = (
         Vector3::repeat(Real::INFINITY),
         Vector3::repeat(-Real::INFINITY),
     );
+    let mut spans = Vec::with_capacity(list.len());
     for &f in &list {
+        let (mut face_lo, mut face_hi) = (Real::INFINITY, Real::NEG_INFINITY);
         for c in mesh.corners(f as usize) {
             let s = across.dot(&c.coords);
-            lo = lo.min(s);
-            hi = hi.max(s);
-            bmin = bmin.inf(&c.coords);
-            bmax = bmax.sup(&c.coords);
+            if s < face_lo {
+                face_lo = s;
+            }
+            if s > face_hi {
+                face_hi = s;
+            }
+            for a in 0..3 {
+                if c[a] < bmin[a] {
+                    bmin[a] = c[a];
+                }
+                if c[a] > bmax[a] {
+                    bmax[a] = c[a];
+                }
+            }
         }
+        lo = if face_lo < lo { face_lo } else { lo };
+        hi = if face_hi > hi { face_hi } else { hi };
+        spans.push((face_lo, face_hi));
     }
-    let arc = arc_table(mesh, geometry, &list, &across, (lo, hi));
+    let arc = arc_table(geometry, &list, &spans, &across, (lo, hi));
+    let scale = span_bin_scale((lo, hi));
+    let span_bins = spans
+        .iter()
+        .map(|&(a, b)| (span_bin(a, lo, scale), span_bin(b, lo, scale)))
+        .collect();
     Ok(PatchFrame {
+        span_bins,
         arc,
         faces: list,
         selected,
@@ -192,6 +221,7 @@ pub fn patch_frame(
         travel,
         across,
         extent: (lo, hi),
+        spans,
         size: (bmax - bmin).norm(),
         area,
     })
@@ -203,9 +233,9 @@ pub fn patch_frame(
 /// its offset range with weight `area / stretch` (its extent in offset × travel); bins no
 /// face covers count 1. O(F + bins).
 fn arc_table(
-    mesh: &TriMesh,
     geometry: &FaceGeometry,
     faces: &[u32],
+    spans: &[(Real, Real)],
     across: &Vector3,
     (lo, hi): (Real, Real),
 ) -> Vec<Real> {
@@ -213,19 +243,23 @@ fn arc_table(
     let mut weight = vec![0.0; ARC_BINS + 1];
     let mut stretched = vec![0.0; ARC_BINS + 1];
     if width > 0.0 {
-        let bin_of = |c: Real| {
-            (((c - lo) / width * ARC_BINS as Real).floor().max(0.0) as usize).min(ARC_BINS - 1)
-        };
-        for &f in faces {
+        // (A float cast saturates: below `lo` is bin 0. Comparisons, not `f64::max`/`min`,
+        // which are calls in WebAssembly; the values are finite.)
+        let bin_of =
+            |c: Real| (((c - lo) / width * ARC_BINS as Real).floor() as usize).min(ARC_BINS - 1);
+        for (&f, &(face_lo, face_hi)) in faces.iter().zip(spans) {
             let f = f as usize;
             let m = geometry.normals()[f];
-            let sine = (1.0 - m.dot(across).powi(2)).max(0.0).sqrt();
-            let stretch = (1.0 / sine.max(1.0 / MAX_STRETCH)).min(MAX_STRETCH);
-            let cs = mesh.corners(f).map(|c| across.dot(&c.coords));
-            let (b0, b1) = (
-                bin_of(cs[0].min(cs[1]).min(cs[2])),
-                bin_of(cs[0].max(cs[1]).max(cs[2])),
-            );
+            let cosine = m.dot(across);
+            // (NaN when rounding takes |cosine| past 1: the comparison then fails too, and
+            // the face gets the largest stretch, as a sine of 0 does.)
+            let sine = (1.0 - cosine * cosine).sqrt();
+            let stretch = if sine * MAX_STRETCH > 1.0 {
+                1.0 / sine
+            } else {
+                MAX_STRETCH
+            };
+            let (b0, b1) = (bin_of(face_lo), bin_of(face_hi));
             // Difference arrays: the face adds evenly to bins b0..=b1.
             let w = geometry.areas()[f] / stretch / (b1 - b0 + 1) as Real;
             weight[b0] += w;
@@ -251,7 +285,29 @@ fn arc_table(
     arc
 }
 
+/// Bins of `across·x` over the patch for [`scan_passes`]' quick test.
+const SPAN_BINS: usize = 1 << 16;
+
+fn span_bin_scale((lo, hi): (Real, Real)) -> Real {
+    if hi > lo {
+        SPAN_BINS as Real / (hi - lo)
+    } else {
+        0.0
+    }
+}
+
+/// Bin of offset `x`: non-decreasing in `x` (a float cast saturates: below `lo` is bin 0).
+fn span_bin(x: Real, lo: Real, scale: Real) -> u32 {
+    (((x - lo) * scale) as usize).min(SPAN_BINS - 1) as u32
+}
+
 impl PatchFrame {
+    /// The bin of offset `x` among [`SPAN_BINS`] over the extent (the bins of the faces'
+    /// spans are [`PatchFrame::span_bins`]).
+    fn bin_of(&self, x: Real) -> u32 {
+        span_bin(x, self.extent.0, span_bin_scale(self.extent))
+    }
+
     /// Offset `across·x` at surface distance `s` from `extent.0` (inverse of [`Self::arc`]).
     fn offset_at(&self, s: Real) -> Real {
         let bins = self.arc.len() - 1;
@@ -321,20 +377,37 @@ pub fn scan_passes(
     // corner lies below it and one not (`across·x < s` for some corner, not for all), i.e.
     // `lo < s ≤ hi` over the corners: the planes `k0..k1` by binary search, exactly the
     // faces the sign test below finds crossed (the test compares the same products).
+    // A face crosses no plane when no plane falls in the bins its span covers (the bins are
+    // a monotone function of the offset, see [`PatchFrame::bin_of`]); then both ends of its
+    // range are the planes in bins before its first. Only the others are searched.
+    let mut before = vec![0u32; SPAN_BINS + 1];
+    for &o in offsets {
+        before[frame.bin_of(o) as usize + 1] += 1;
+    }
+    for b in 0..SPAN_BINS {
+        before[b + 1] += before[b];
+    }
     let ranges: Vec<(usize, usize)> = frame
-        .faces
+        .spans
         .iter()
-        .map(|&f| {
-            let d = mesh
-                .corners(f as usize)
-                .map(|c| frame.across.dot(&c.coords));
-            let (lo, hi) = (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]));
-            (
-                offsets.partition_point(|&o| o <= lo),
-                offsets.partition_point(|&o| o <= hi),
-            )
+        .zip(&frame.span_bins)
+        .map(|(&(lo, hi), &(b0, b1))| {
+            let below = before[b0 as usize];
+            if before[b1 as usize + 1] == below {
+                (below as usize, below as usize)
+            } else {
+                (
+                    offsets.partition_point(|&o| o <= lo),
+                    offsets.partition_point(|&o| o <= hi),
+                )
+            }
         })
         .collect();
+    debug_assert!(frame.spans.iter().zip(&ranges).all(|(&(lo, hi), &r)| r
+        == (
+            offsets.partition_point(|&o| o <= lo),
+            offsets.partition_point(|&o| o <= hi)
+        )));
     // Bucket faces by plane (counting sort).
     let mut start = vec![0usize; n + 1];
     for &(k0, k1) in &ranges {

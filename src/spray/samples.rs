@@ -5,18 +5,21 @@
 //! is split into `k²` sub-triangles with `k = ceil(longest edge / resolution)`, so coarse
 //! CAD meshes (a flat panel of two triangles) get dense samples too, and the sub-triangles
 //! form a display mesh for a smooth heat map.
-//! Input:  mesh, selected faces, resolution.
+//! Input:  mesh, its face adjacency, selected faces, resolution.
 //! Output: sample positions, unit normals (area-weighted over the faces that share the
 //!         sample), area weights (a third of each touching sub-triangle), sub-triangles.
-//! Cost:   linear in the number of samples; refused above [`MAX_SAMPLES`] before allocating.
-//! Deviations: samples on an edge are shared between its two faces when both use the same
+//! Cost:   linear in the number of samples (plus one index per mesh vertex and face);
+//!         refused above [`MAX_SAMPLES`] before allocating. The samples on an edge are read
+//!         from the grid of the face across it (the adjacency's neighbour), so only edges
+//!         without one (boundary, non-manifold) are looked up in a hash map.
+//! Deviations: samples on an edge are shared between its faces when they use the same
 //!         `k` (always at vertices); otherwise the display mesh has T-junctions there.
 //!         Slivers are split by their area (`k ≤ 2·√area / resolution`), so their samples
 //!         are farther apart than the resolution along their long edge.
 
 use super::params::{SprayError, MAX_SAMPLES};
 use crate::math::{Point3, Real, Vector3};
-use crate::mesh::{FaceGeometry, TriMesh};
+use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh, NO_FACE};
 
 /// Evaluation samples and their display mesh.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -54,15 +57,26 @@ pub fn subdivides(mesh: &TriMesh, faces: &[u32], resolution: Real) -> bool {
 /// Samples the faces `faces` at `resolution` (at least their vertices).
 pub fn sample_faces(
     mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
     geometry: &FaceGeometry,
     faces: &[u32],
     resolution: Real,
 ) -> Result<EvaluationSamples, SprayError> {
     // Count first: refuse before allocating.
     let mut total: Real = 0.0;
+    let mut subdivided: Vec<u32> = Vec::with_capacity(faces.len());
+    // Sub-triangles, and (for the reservations) the samples on edges and inside faces.
+    let (mut sub_triangles, mut on_edges, mut inside) = (0usize, 0usize, 0usize);
     for &f in faces {
-        let k = subdivisions(&mesh.corners(f as usize), resolution) as Real;
-        total += (k + 1.0) * (k + 2.0) / 2.0;
+        let k = subdivisions(&mesh.corners(f as usize), resolution);
+        // At most MAX_SAMPLES samples on a face: k fits a u32 once the count passes.
+        subdivided.push(k.min(u32::MAX as usize) as u32);
+        total += (k as Real + 1.0) * (k as Real + 2.0) / 2.0;
+        if total <= MAX_SAMPLES as Real {
+            sub_triangles += k * k;
+            on_edges += 3 * (k - 1);
+            inside += (k - 1) * k.saturating_sub(2) / 2;
+        }
     }
     if total > MAX_SAMPLES as Real {
         return Err(SprayError::TooManySamples {
@@ -71,27 +85,69 @@ pub fn sample_faces(
             suggestion: resolution * (total / MAX_SAMPLES as Real).sqrt() * 1.1,
         });
     }
-    let mut out = EvaluationSamples::default();
+    // About half as many vertices as faces on a closed mesh, and edge samples shared by two
+    // faces: reserve about that, so the arrays grow once.
+    let expected = faces.len() / 2 + on_edges / 2 + inside;
+    let mut out = EvaluationSamples {
+        positions: Vec::with_capacity(expected),
+        normals: Vec::with_capacity(expected),
+        weights: Vec::with_capacity(expected),
+        triangles: Vec::with_capacity(sub_triangles),
+    };
     let mut at_vertex = vec![u32::MAX; mesh.vertex_count()];
+    // Samples on an edge are shared with the face across it (the adjacency's neighbour, once
+    // sampled with the same k), read from that face's grid; only edges without a manifold
+    // neighbour (boundary, non-manifold) are keyed by (lower vertex, higher vertex, k, index
+    // from the lower one).
+    let mut sampled_as = vec![u32::MAX; mesh.triangle_count()];
+    let mut grids: Vec<u32> = Vec::with_capacity(total as usize);
+    let mut grid_start: Vec<usize> = Vec::with_capacity(faces.len());
     let mut on_edge: rustc_hash::FxHashMap<(u32, u32, u32, u32), u32> =
         rustc_hash::FxHashMap::default();
-    let mut grid: Vec<u32> = Vec::new();
-    for &f in faces {
+    // Index of grid point (i, j), i + j ≤ k, row by row.
+    let index = |k: usize, i: usize, j: usize| j * (k + 1) - j * (j.saturating_sub(1)) / 2 + i;
+    // Grid point `m` of `k` along slot `e` of a face (from corner e to corner e + 1).
+    let along = |k: usize, e: usize, m: usize| match e {
+        0 => (m, 0),
+        1 => (k - m, m),
+        _ => (0, k - m),
+    };
+    for (n, (&f, &k)) in faces.iter().zip(&subdivided).enumerate() {
         let f = f as usize;
         let tri = mesh.triangles()[f];
         let [a, b, c] = mesh.corners(f);
-        let k = subdivisions(&[a, b, c], resolution);
+        let k = k as usize;
         let kk = k as u32;
         let normal = geometry.normals()[f];
-        // Index of grid point (i, j), i + j ≤ k, row by row.
-        let index = |i: usize, j: usize| j * (k + 1) - j * (j.saturating_sub(1)) / 2 + i;
-        grid.clear();
+        // Per slot: the grid of the face across, sampled before with the same k, its slot for
+        // this edge, and whether it runs the same way.
+        let across = adjacency.neighbours(f);
+        let shared: [Option<(usize, usize, bool)>; 3] = std::array::from_fn(|e| {
+            let g = across[e];
+            if g == NO_FACE {
+                return None;
+            }
+            let at = sampled_as[g as usize];
+            if at == u32::MAX || subdivided[at as usize] != kk {
+                return None;
+            }
+            let other = mesh.triangles()[g as usize];
+            let (p, q) = (tri[e], tri[(e + 1) % 3]);
+            (0..3).find_map(|s| {
+                let (u, v) = (other[s], other[(s + 1) % 3]);
+                ((u, v) == (p, q) || (u, v) == (q, p)).then_some((
+                    grid_start[at as usize],
+                    s,
+                    u == p,
+                ))
+            })
+        });
+        grid_start.push(grids.len());
+        sampled_as[f] = n as u32;
         for j in 0..=k {
             for i in 0..=(k - j) {
                 let position =
                     a + (b - a) * (i as Real / k as Real) + (c - a) * (j as Real / k as Real);
-                // Shared samples: vertices, then edge points keyed by (lower vertex, higher
-                // vertex, k, index from the lower one).
                 let edge_key = |x: u32, y: u32, m: usize| {
                     if x < y {
                         (x, y, kk, m as u32)
@@ -117,24 +173,37 @@ pub fn sample_faces(
                     }
                     at_vertex[v as usize]
                 } else {
-                    let key = if j == 0 {
-                        Some(edge_key(tri[0], tri[1], i))
+                    // The slot and the point's index from its first corner.
+                    let edge = if j == 0 {
+                        Some((0, i))
                     } else if i == 0 {
-                        Some(edge_key(tri[0], tri[2], j))
+                        Some((2, k - j))
                     } else if i + j == k {
-                        Some(edge_key(tri[1], tri[2], j))
+                        Some((1, j))
                     } else {
                         None
                     };
-                    match key {
-                        Some(key) => *on_edge.entry(key).or_insert_with(|| new_sample(&mut out)),
+                    match edge {
                         None => new_sample(&mut out),
+                        Some((e, m)) => match shared[e] {
+                            Some((g, s, same)) => {
+                                let (gi, gj) = along(k, s, if same { m } else { k - m });
+                                grids[g + index(k, gi, gj)]
+                            }
+                            None if across[e] == NO_FACE => {
+                                let key = edge_key(tri[e], tri[(e + 1) % 3], m);
+                                *on_edge.entry(key).or_insert_with(|| new_sample(&mut out))
+                            }
+                            None => new_sample(&mut out),
+                        },
                     }
                 };
-                grid.push(id);
+                grids.push(id);
             }
         }
+        let grid = &grids[grid_start[n]..];
         debug_assert_eq!(grid.len(), (k + 1) * (k + 2) / 2);
+        let index = |i: usize, j: usize| index(k, i, j);
         let sub_area = geometry.areas()[f] / (k * k) as Real;
         let add = |out: &mut EvaluationSamples, t: [u32; 3]| {
             for s in t {
@@ -201,32 +270,68 @@ impl EvaluationSamples {
     /// separately from the others (the interior from the band along the edge). No display
     /// triangles. Also returns the index of each kept sample among `self`'s.
     pub fn thinned(&self, cell: Real, keep_apart: &[bool]) -> (EvaluationSamples, Vec<usize>) {
-        let mut index: rustc_hash::FxHashMap<(i64, i64, i64, bool), usize> =
-            rustc_hash::FxHashMap::default();
+        self.thinned_by(cell, keep_apart, true)
+    }
+
+    /// [`EvaluationSamples::thinned`], the cubes numbered in a dense array when `dense` and
+    /// their box has at most [`DENSE_CUBES_PER_SAMPLE`] cubes a sample, else hashed.
+    fn thinned_by(
+        &self,
+        cell: Real,
+        keep_apart: &[bool],
+        dense: bool,
+    ) -> (EvaluationSamples, Vec<usize>) {
+        // Finite: samples lie on validated faces.
+        let cube = |p: &Point3| [p.x, p.y, p.z].map(|c| (c / cell).floor() as i64);
+        let (mut lo, mut hi) = ([i64::MAX; 3], [i64::MIN; 3]);
+        if dense {
+            for p in &self.positions {
+                let k = cube(p);
+                for a in 0..3 {
+                    lo[a] = lo[a].min(k[a]);
+                    hi[a] = hi[a].max(k[a]);
+                }
+            }
+        }
+        let dims = [0, 1, 2].map(|a| hi[a].saturating_sub(lo[a]).saturating_add(1).max(0) as u64);
+        let cubes = dims[0].saturating_mul(dims[1]).saturating_mul(dims[2]);
         let mut out = EvaluationSamples::default();
         let mut origin = Vec::new();
-        for (i, p) in self.positions.iter().enumerate() {
-            // Finite: samples lie on validated faces.
-            let key = (
-                (p.x / cell).floor() as i64,
-                (p.y / cell).floor() as i64,
-                (p.z / cell).floor() as i64,
-                keep_apart[i],
-            );
-            match index.get(&key) {
-                Some(&k) => out.weights[k] += self.weights[i],
-                None => {
-                    index.insert(key, out.positions.len());
-                    origin.push(i);
-                    out.positions.push(*p);
-                    out.normals.push(self.normals[i]);
-                    out.weights.push(self.weights[i]);
-                }
+        let mut keep = |i: usize, slot: &mut u32| {
+            if *slot == u32::MAX {
+                *slot = out.positions.len() as u32;
+                origin.push(i);
+                out.positions.push(self.positions[i]);
+                out.normals.push(self.normals[i]);
+                out.weights.push(self.weights[i]);
+            } else {
+                out.weights[*slot as usize] += self.weights[i];
+            }
+        };
+        if dense && cubes <= DENSE_CUBES_PER_SAMPLE * self.positions.len() as u64 {
+            // Two slots a cube (the samples kept apart and the others).
+            let mut slots = vec![u32::MAX; 2 * cubes as usize];
+            for (i, p) in self.positions.iter().enumerate() {
+                let k = cube(p);
+                let [x, y, z] = [0, 1, 2].map(|a| (k[a] - lo[a]) as usize);
+                let at = ((z * dims[1] as usize + y) * dims[0] as usize + x) * 2
+                    + keep_apart[i] as usize;
+                keep(i, &mut slots[at]);
+            }
+        } else {
+            let mut index: rustc_hash::FxHashMap<([i64; 3], bool), u32> =
+                rustc_hash::FxHashMap::default();
+            for (i, p) in self.positions.iter().enumerate() {
+                keep(i, index.entry((cube(p), keep_apart[i])).or_insert(u32::MAX));
             }
         }
         (out, origin)
     }
 }
+
+/// Most cubes per sample for which [`EvaluationSamples::thinned`] numbers the cubes of the
+/// samples' box in a dense array (faster than hashing them, above all in WebAssembly).
+const DENSE_CUBES_PER_SAMPLE: u64 = 8;
 
 #[cfg(test)]
 mod tests {
@@ -244,11 +349,118 @@ mod tests {
         )
         .unwrap();
         let geometry = FaceGeometry::new(&mesh);
-        let s = sample_faces(&mesh, &geometry, &[0], 1.5).unwrap();
+        let s = sample_faces(&mesh, &FaceAdjacency::new(&mesh), &geometry, &[0], 1.5).unwrap();
         // k = ceil(2√2 / 1.5) = 2: 6 samples, 4 sub-triangles.
         assert_eq!((s.positions.len(), s.triangles.len()), (6, 4));
         let total: Real = s.weights.iter().sum();
         assert!((total - 2.0).abs() < 1e-12);
         assert!(s.normals.iter().all(|n| (n.z - 1.0).abs() < 1e-12));
+    }
+
+    /// Sample positions as bit patterns, for exact comparisons.
+    fn distinct(s: &EvaluationSamples) -> usize {
+        let keys: std::collections::HashSet<[u64; 3]> = s
+            .positions
+            .iter()
+            .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .collect();
+        keys.len()
+    }
+
+    #[test]
+    fn a_closed_mesh_shares_every_edge_sample_with_the_face_across() {
+        // Octahedron, edges √2, k = 3 on every face: V + E·(k − 1) + F·(k − 1)(k − 2)/2.
+        let mesh = TriMesh::new(
+            vec![
+                Point3::new(1.0, 0.0, 0.0),
+                Point3::new(-1.0, 0.0, 0.0),
+                Point3::new(0.0, 1.0, 0.0),
+                Point3::new(0.0, -1.0, 0.0),
+                Point3::new(0.0, 0.0, 1.0),
+                Point3::new(0.0, 0.0, -1.0),
+            ],
+            vec![
+                [0, 2, 4],
+                [2, 1, 4],
+                [1, 3, 4],
+                [3, 0, 4],
+                [2, 0, 5],
+                [1, 2, 5],
+                [3, 1, 5],
+                [0, 3, 5],
+            ],
+        )
+        .unwrap();
+        let geometry = FaceGeometry::new(&mesh);
+        let adjacency = FaceAdjacency::new(&mesh);
+        // Faces in an order that meets every edge from both sides and both directions.
+        let faces = [5, 0, 7, 2, 1, 6, 3, 4];
+        let s = sample_faces(&mesh, &adjacency, &geometry, &faces, 2f64.sqrt() / 2.5).unwrap();
+        assert_eq!(s.positions.len(), 6 + 12 * 2 + 8);
+        assert_eq!(distinct(&s), s.positions.len());
+        assert_eq!(s.triangles.len(), 8 * 9);
+        // Every sub-triangle a ninth of its face, wound like it: a shared sample read from
+        // the wrong end of an edge would skew or flip some.
+        let face_area = geometry.areas()[0];
+        for t in &s.triangles {
+            let [p, q, r] = t.map(|i| s.positions[i as usize]);
+            let n = (q - p).cross(&(r - p)) * 0.5;
+            let outward = Vector3::new(p.x + q.x + r.x, p.y + q.y + r.y, p.z + q.z + r.z);
+            assert!((n.norm() - face_area / 9.0).abs() < 1e-12, "{t:?}");
+            assert!(n.dot(&outward) > 0.0, "{t:?}");
+        }
+        let total: Real = s.weights.iter().sum();
+        assert!((total - geometry.areas().iter().sum::<Real>()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn an_edge_of_three_faces_keeps_one_set_of_samples() {
+        // Edge 0–1 is shared by three faces (non-manifold: no neighbour across it).
+        let mesh = TriMesh::new(
+            vec![
+                Point3::new(0.0, 0.0, 0.0),
+                Point3::new(1.0, 0.0, 0.0),
+                Point3::new(0.5, 1.0, 0.0),
+                Point3::new(0.5, -1.0, 0.0),
+                Point3::new(0.5, 0.0, 1.0),
+            ],
+            vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+        )
+        .unwrap();
+        let geometry = FaceGeometry::new(&mesh);
+        let adjacency = FaceAdjacency::new(&mesh);
+        let s = sample_faces(&mesh, &adjacency, &geometry, &[0, 1, 2], 0.6).unwrap();
+        // k = 2: five vertices, one midpoint on the shared edge, two more per face.
+        assert_eq!(s.positions.len(), 5 + 1 + 3 * 2);
+        assert_eq!(distinct(&s), s.positions.len());
+    }
+
+    #[test]
+    fn thinning_by_a_dense_array_keeps_what_hashing_keeps() {
+        let mesh = TriMesh::new(
+            vec![
+                Point3::new(0.0, 0.0, 0.0),
+                Point3::new(10.0, 0.0, 1.0),
+                Point3::new(0.0, 7.0, -2.0),
+                Point3::new(9.0, 8.0, 0.5),
+            ],
+            vec![[0, 1, 2], [1, 3, 2]],
+        )
+        .unwrap();
+        let geometry = FaceGeometry::new(&mesh);
+        let adjacency = FaceAdjacency::new(&mesh);
+        let s = sample_faces(&mesh, &adjacency, &geometry, &[0, 1], 0.7).unwrap();
+        let apart: Vec<bool> = s.positions.iter().map(|p| p.x < 2.0).collect();
+        let (dense, dense_origin) = s.thinned_by(1.9, &apart, true);
+        let (hashed, hashed_origin) = s.thinned_by(1.9, &apart, false);
+        assert_eq!(dense_origin, hashed_origin);
+        assert_eq!(dense, hashed);
+        assert!(
+            dense.positions.len() * 4 < s.positions.len(),
+            "{}",
+            dense.positions.len()
+        );
+        let (a, b): (Real, Real) = (dense.weights.iter().sum(), s.weights.iter().sum());
+        assert!((a - b).abs() < 1e-9 * b);
     }
 }

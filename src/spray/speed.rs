@@ -232,6 +232,7 @@ fn coating_matrix(
                 grid,
                 model,
                 step_length,
+                None,
                 &mut |i, segment, v| entries.push((owner[segment], i as u32, v / v_ref)),
             );
         },
@@ -510,8 +511,11 @@ impl Problem<'_> {
 
 /// Chooses the speed of every piece of the gun-on path within `limits` to even out the
 /// interior coating around `target` (default: the interior mean at `v_ref`) on samples about
-/// `resolution` apart; `score` ranks the rounds of the max-deviation step. The returned path
-/// has per-move speeds. The descent starts from the path's own speeds when it has them.
+/// `resolution` apart; `score` ranks the rounds of the max-deviation step, which stop once
+/// a round scores below `enough` (pass `Real::NEG_INFINITY` for every round: a screening
+/// that only asks whether the limits are met can stop at the first that meets them). The
+/// returned path has per-move speeds. The descent starts from the path's own speeds when it
+/// has them.
 #[allow(clippy::too_many_arguments)]
 pub fn optimise_speeds(
     path: &ToolPath,
@@ -525,6 +529,7 @@ pub fn optimise_speeds(
     time_step: Real,
     resolution: Real,
     score: Score,
+    enough: Real,
 ) -> Result<SpeedPlan, SprayError> {
     let step_length = check_time_samples(path, v_ref, time_step)?;
     let max_length = (PIECE_RADIUS_RATIO * model.radius).max(PIECE_SAMPLE_RATIO * resolution);
@@ -611,6 +616,9 @@ pub fn optimise_speeds(
         let mut best = (score(&stats_of(&r)), x.clone(), r.clone());
         let mut w = base.clone();
         for _ in 0..MINIMAX_ROUNDS {
+            if best.0 < enough {
+                break;
+            }
             let largest = r
                 .iter()
                 .zip(&base)
