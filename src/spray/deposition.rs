@@ -156,11 +156,15 @@ pub(super) fn deposit_except(
     let mut thickness = vec![0.0; samples.positions.len()];
     let varying = path.has_varying_speed();
     let move_speed = |i: usize| if varying { path.move_speed(i) } else { speed };
+    let mut inverse_speeds: Vec<Real> = Vec::new();
     for_each_segmented_piece(
         path,
         model,
         move_speed,
         |range, cumulative, starts, speeds| {
+            // Multiplications per chord and stretch below, not divisions.
+            inverse_speeds.clear();
+            inverse_speeds.extend(speeds.iter().map(|v| 1.0 / v));
             deposit_piece(
                 &path.poses[range],
                 cumulative,
@@ -170,7 +174,7 @@ pub(super) fn deposit_except(
                 model,
                 step_length,
                 known,
-                &mut |i, segment, v| thickness[i] += v / speeds[segment],
+                &mut |i, segment, v| thickness[i] += v * inverse_speeds[segment],
             );
         },
     );

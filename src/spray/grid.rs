@@ -19,6 +19,9 @@ pub struct PointGrid {
     dims: [usize; 3],
     start: Vec<u32>,
     ids: Vec<u32>,
+    /// Whether `ids` is `0, 1, 2, …` (a [`PointGrid::reordered`] grid): queries then read
+    /// the id ranges without loading them.
+    in_order: bool,
 }
 
 impl PointGrid {
@@ -56,6 +59,7 @@ impl PointGrid {
             dims,
             start: vec![0; cells + 1],
             ids: vec![0; points.len()],
+            in_order: false,
         };
         let keys: Vec<usize> = points.iter().map(|p| grid.cell_of(p)).collect();
         for &k in &keys {
@@ -97,6 +101,7 @@ impl PointGrid {
         for (k, id) in self.ids.iter_mut().enumerate() {
             *id = k as u32;
         }
+        self.in_order = true;
         self
     }
 
@@ -122,7 +127,12 @@ impl PointGrid {
                     self.start[row + l[0]] as usize,
                     self.start[row + h[0] + 1] as usize,
                 );
-                if self.ids[s..e].iter().any(|&id| found(id as usize)) {
+                let hit = if self.in_order {
+                    (s..e).any(&mut found)
+                } else {
+                    self.ids[s..e].iter().any(|&id| found(id as usize))
+                };
+                if hit {
                     return true;
                 }
             }

@@ -219,6 +219,7 @@ fn coating_matrix(
     // piece; the deposition's own pieces are longer than the speed pieces and are cut where
     // the speed piece changes.
     let mut entries: Vec<(u32, u32, Real)> = Vec::new();
+    let per_speed = 1.0 / v_ref;
     for_each_segmented_piece(
         path,
         model,
@@ -233,7 +234,7 @@ fn coating_matrix(
                 model,
                 step_length,
                 None,
-                &mut |i, segment, v| entries.push((owner[segment], i as u32, v / v_ref)),
+                &mut |i, segment, v| entries.push((owner[segment], i as u32, v * per_speed)),
             );
         },
     );
