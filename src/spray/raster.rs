@@ -67,7 +67,8 @@ pub struct PatchFrame {
     pub extent: (Real, Real),
     /// Per face of `faces`: smallest and largest `across·x` over its corners.
     pub spans: Vec<(Real, Real)>,
-    /// The [`PatchFrame::bin_of`] of each span's ends.
+    /// The bins of each span's ends among 2¹⁶ over `extent` (a non-decreasing function of
+    /// the offset), for a quick test of which faces a set of planes may cross.
     pub span_bins: Vec<(u32, u32)>,
     /// Size of the patch (bounding-box diagonal), for relative tolerances.
     pub size: Real,
