@@ -68,6 +68,8 @@ const FOLD_COSINE: Real = -0.999;
 const EXTENSION: Real = 1.0;
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
+/// Relative slack of the lower bound on an offer (far above the rounding of the offer).
+const BOUND_SLACK: Real = 1e-9;
 
 /// A virtual source: distance `sigma + dist(x, [p, q])`, lying in the plane of `face`; the
 /// segment runs on by the solver's `reach` beyond `p` (`extend[0]`) or `q`
@@ -126,13 +128,19 @@ pub(super) fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
     w * c + k.cross(&w) + k * (k.dot(&w) / (1.0 + c))
 }
 
-/// A binary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
+/// A 4-ary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
 /// in it once at most (a lazy heap holds about two entries a vertex and skips the stale).
+/// Four children a node halve the depth of a binary heap, and a pop reads them from one or
+/// two cache lines (no paper; a common choice for Dijkstra's queue). The order is total, so
+/// any heap pops the same sequence as the binary one did.
 struct Queue {
     entries: Vec<Entry>,
     /// Index of each vertex in `entries` (`u32::MAX`: not queued).
     at: Vec<u32>,
 }
+
+/// Children per node of [`Queue`].
+const ARITY: usize = 4;
 
 impl Queue {
     fn new(vertices: usize) -> Self {
@@ -161,9 +169,9 @@ impl Queue {
             }
             i => i as usize,
         };
-        // Sift up: each step halves i, so at most log2(len) steps.
+        // Sift up: each step divides i by ARITY, so at most log4(len) steps.
         while i > 0 {
-            let parent = (i - 1) / 2;
+            let parent = (i - 1) / ARITY;
             if !Self::less(&e, &self.entries[parent]) {
                 break;
             }
@@ -179,19 +187,20 @@ impl Queue {
         self.at[top.v as usize] = u32::MAX;
         let last = self.entries.pop()?;
         if !self.entries.is_empty() {
-            // Sift down: each step doubles i, so at most log2(len) steps.
+            // Sift down: each step multiplies i by ARITY, so at most log4(len) steps.
             let (n, mut i) = (self.entries.len(), 0);
             loop {
-                let (l, r) = (2 * i + 1, 2 * i + 2);
-                let mut m = i;
-                let mut best = last;
-                if l < n && Self::less(&self.entries[l], &best) {
-                    (m, best) = (l, self.entries[l]);
+                let first = ARITY * i + 1;
+                if first >= n {
+                    break;
                 }
-                if r < n && Self::less(&self.entries[r], &best) {
-                    m = r;
+                let mut m = first;
+                for c in first + 1..(first + ARITY).min(n) {
+                    if Self::less(&self.entries[c], &self.entries[m]) {
+                        m = c;
+                    }
                 }
-                if m == i {
+                if !Self::less(&self.entries[m], &last) {
                     break;
                 }
                 let child = self.entries[m];
@@ -342,6 +351,8 @@ impl<'a> Solver<'a> {
         let mesh = surface.mesh;
         let pos = mesh.positions();
         let mut open = false;
+        let su = self.src[u];
+        let (pu, du) = (pos[u], self.dist[u]);
         for &t in surface.faces_of(u) {
             let t = t as usize;
             let tri = mesh.triangles()[t];
@@ -351,11 +362,40 @@ impl<'a> Solver<'a> {
                 continue;
             }
             open = true;
-            let from_u = self.moved(u, t);
+            // Offers are checked first with x turned back about u into the plane of u's
+            // source (the inverse of moving the source, one rotation instead of two for a
+            // segment); most cannot improve x and need no more.
+            let normals = &surface.face_normals;
+            let (n1, n2) = (&normals[su.face as usize], &normals[t]);
+            let same = su.face as usize == t;
+            let c = if same { 1.0 } else { n1.dot(n2) };
+            let mut from_u = None;
             for (x, y) in [(p, q), (q, p)] {
                 if self.settled[x] {
                     continue;
                 }
+                let ux = pos[x] - pu;
+                let ux_len = ux.norm();
+                let direct = du + ux_len;
+                if c > FOLD_COSINE {
+                    let xb = if same {
+                        pos[x]
+                    } else {
+                        pu + rotate(ux, n2, n1)
+                    };
+                    let w_len = (xb - foot(&xb, &su.p, &su.q, su.extend, self.reach)).norm();
+                    let lower = su.sigma + w_len;
+                    let slack = BOUND_SLACK * (su.sigma.abs() + w_len + ux_len);
+                    if lower - slack >= self.dist[x] {
+                        // The full offer would be no better than x's distance: only the
+                        // bend at u can change x.
+                        if direct < self.dist[x] && self.bends_at(u) {
+                            self.improve(x, direct, Virtual::point(pu, du, t as u32));
+                        }
+                        continue;
+                    }
+                }
+                let from_u = *from_u.get_or_insert_with(|| self.moved(u, t));
                 let mut best = from_u.and_then(|s| Some((self.offer(&s, t, x, u, y)?, s)));
                 // A settled y offered its own source to x across the same edge when it was
                 // settled; it matters again only as the alternative to a bend at u.
@@ -366,12 +406,10 @@ impl<'a> Solver<'a> {
                 }
                 // The path bending at u: a new point source there (exact at saddle and
                 // boundary vertices; elsewhere only when no unfolded ray reaches x).
-                let (du, ux) = (self.dist[u], pos[x] - pos[u]);
-                let direct = || du + ux.norm();
-                let at_u = Virtual::point(pos[u], self.dist[u], t as u32);
+                let at_u = Virtual::point(pu, du, t as u32);
                 match best {
-                    Some((d, s)) if !(direct() < d && self.bends_at(u)) => self.improve(x, d, s),
-                    _ => self.improve(x, direct(), at_u),
+                    Some((d, s)) if !(direct < d && self.bends_at(u)) => self.improve(x, d, s),
+                    _ => self.improve(x, direct, at_u),
                 }
             }
         }
