@@ -119,11 +119,15 @@ pub fn geodesic_distance(
             (vd, Some(field))
         }
     };
-    let finite_max =
-        |it: &mut dyn Iterator<Item = Real>| it.filter(|d| d.is_finite()).fold(0.0, Real::max);
+    // A comparison, not `Real::max`: WebAssembly builds call `fmax` for it (its NaN rules
+    // differ from the instruction's), and the values compared here are finite.
+    let finite_max = |d: &[Real]| {
+        d.iter()
+            .fold(0.0, |m, &x| if x.is_finite() && x > m { x } else { m })
+    };
     let max_distance = match &voxels {
-        Some(f) => finite_max(&mut f.distance.iter().copied()),
-        None => finite_max(&mut vertex_distance.iter().copied()),
+        Some(f) => finite_max(&f.distance),
+        None => finite_max(&vertex_distance),
     };
     Ok(DistanceField {
         method: params.method,

@@ -230,7 +230,7 @@ fn is_sink(s: &Solver, v: usize) -> bool {
             Vector3::zeros()
         }
     };
-    let n = &surface.vertex_normals[v];
+    let n = &surface.vertex_normal(v);
     let flat = |g: &Vector3| g - n * n.dot(g);
     let (mut turn, mut inwards) = (0.0, 0.0);
     for &f in surface.faces_of(v) {

@@ -1,5 +1,5 @@
 //! The part of a mesh the geodesic module works on: the active faces (all, or a patch), the
-//! faces around each vertex, vertex normals, and a uniform grid for closest-point queries.
+//! faces around each vertex, face and vertex normals, and a uniform grid for closest-point queries.
 //!
 //! No paper for the grid: faces are binned by bounding box into cubic cells of about two mean
 //! edge lengths (grown so there are at most 4 cells a face), and a query scans rings of cells
@@ -25,8 +25,6 @@ pub(crate) struct Surface<'a> {
     /// CSR offsets into `vertex_faces` per vertex.
     vertex_face_start: Vec<u32>,
     vertex_faces: Vec<u32>,
-    /// Unit area-weighted vertex normals (zero for vertices of no active face).
-    pub vertex_normals: Vec<Vector3>,
     /// Unit face normals of the active faces ([`Surface::face_normal`]; +z for the others).
     pub face_normals: Vec<Vector3>,
     /// Mean active edge length.
@@ -76,7 +74,6 @@ impl<'a> Surface<'a> {
         }
         let mut fill = vertex_face_start.clone();
         let mut vertex_faces = vec![0u32; faces.len() * 3];
-        let mut normals = vec![Vector3::zeros(); nv];
         let mut face_normals = vec![Vector3::z(); nf];
         let (mut edge_sum, mut area) = (0.0, 0.0);
         for &f in &faces {
@@ -92,13 +89,6 @@ impl<'a> Surface<'a> {
             for v in t {
                 vertex_faces[fill[v as usize] as usize] = f;
                 fill[v as usize] += 1;
-                normals[v as usize] += n;
-            }
-        }
-        for n in &mut normals {
-            let len = n.norm();
-            if len > 0.0 {
-                *n /= len;
             }
         }
         Ok(Surface {
@@ -109,7 +99,6 @@ impl<'a> Surface<'a> {
             faces,
             vertex_face_start,
             vertex_faces,
-            vertex_normals: normals,
             face_normals,
             area,
         })
@@ -138,9 +127,25 @@ impl<'a> Surface<'a> {
         }
     }
 
+    /// Unit area-weighted normal at vertex `v` (zero for a vertex of no active face). Found
+    /// on demand: the propagation never needs it, and few vertices are asked (the output's
+    /// tool axes, focal candidates), so no table is built.
+    pub fn vertex_normal(&self, v: usize) -> Vector3 {
+        // Summed in ascending face order, as a table built face by face would be.
+        let n = self.faces_of(v).iter().fold(Vector3::zeros(), |n, &f| {
+            n + self.mesh.scaled_normal(f as usize)
+        });
+        let len = n.norm();
+        if len > 0.0 {
+            n / len
+        } else {
+            n
+        }
+    }
+
     /// Unit normal interpolated from the vertex normals of edge `(a, b)` at parameter `t`.
     pub fn edge_normal(&self, a: usize, b: usize, t: Real) -> Vector3 {
-        let n = self.vertex_normals[a] * (1.0 - t) + self.vertex_normals[b] * t;
+        let n = self.vertex_normal(a) * (1.0 - t) + self.vertex_normal(b) * t;
         let len = n.norm();
         if len > 0.0 {
             n / len

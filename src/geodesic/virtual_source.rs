@@ -22,8 +22,11 @@
 //!         / mean error in mm against the analytic distance): cap R 1000 from its rim, 500k
 //!         triangles 0.033 / 0.0012, 2M 0.020 / 0.0003 (fast marching 1.8 / 0.10 and
 //!         1.0 / 0.05); sphere R 100 from a point, 500k 0.0096 / 0.0005, 2M 0.0051 / 0.00013
-//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.9–2.1× fast marching's solve on a
-//!         shared, loaded machine (the ratio moved that much between runs).
+//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.6–1.6× fast marching's solve on a
+//!         shared, loaded machine (two runs: cap 500k 1.33 / 1.49, 2M 0.62 / 0.76, sphere
+//!         500k 1.34 / 1.59, 2M 0.81 / 0.73; the ratio moves that much between runs). The
+//!         bench times a first call in a fresh process: at 500k its fixed costs (the engine's
+//!         baseline code in loops run once, memory growth) weigh most.
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
 //!         a normal per face, the heap, the focal patches: at most a quarter of the faces
 //!         again), its worst case refused up front above 1 GiB (about 7M triangles): each
@@ -68,6 +71,11 @@ const FOLD_COSINE: Real = -0.999;
 const EXTENSION: Real = 1.0;
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
+/// Relative slack of the lower bound on an offer (far above the rounding of the offer).
+const BOUND_SLACK: Real = 1e-9;
+/// Vertices settled by a call of [`Solver::settle_next`] (the first call is enough to make it
+/// hot in V8, whose optimised code then serves the later calls; see [`Solver::run`]).
+const CHUNK: usize = 1 << 12;
 
 /// A virtual source: distance `sigma + dist(x, [p, q])`, lying in the plane of `face`; the
 /// segment runs on by the solver's `reach` beyond `p` (`extend[0]`) or `q`
@@ -126,13 +134,19 @@ pub(super) fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
     w * c + k.cross(&w) + k * (k.dot(&w) / (1.0 + c))
 }
 
-/// A binary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
+/// A 4-ary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
 /// in it once at most (a lazy heap holds about two entries a vertex and skips the stale).
+/// Four children a node halve the depth of a binary heap, and a pop reads them from one or
+/// two cache lines (no paper; a common choice for Dijkstra's queue). The order is total, so
+/// any heap pops the same sequence as the binary one did.
 struct Queue {
     entries: Vec<Entry>,
     /// Index of each vertex in `entries` (`u32::MAX`: not queued).
     at: Vec<u32>,
 }
+
+/// Children per node of [`Queue`].
+const ARITY: usize = 4;
 
 impl Queue {
     fn new(vertices: usize) -> Self {
@@ -161,9 +175,9 @@ impl Queue {
             }
             i => i as usize,
         };
-        // Sift up: each step halves i, so at most log2(len) steps.
+        // Sift up: each step divides i by ARITY, so at most log4(len) steps.
         while i > 0 {
-            let parent = (i - 1) / 2;
+            let parent = (i - 1) / ARITY;
             if !Self::less(&e, &self.entries[parent]) {
                 break;
             }
@@ -179,19 +193,20 @@ impl Queue {
         self.at[top.v as usize] = u32::MAX;
         let last = self.entries.pop()?;
         if !self.entries.is_empty() {
-            // Sift down: each step doubles i, so at most log2(len) steps.
+            // Sift down: each step multiplies i by ARITY, so at most log4(len) steps.
             let (n, mut i) = (self.entries.len(), 0);
             loop {
-                let (l, r) = (2 * i + 1, 2 * i + 2);
-                let mut m = i;
-                let mut best = last;
-                if l < n && Self::less(&self.entries[l], &best) {
-                    (m, best) = (l, self.entries[l]);
+                let first = ARITY * i + 1;
+                if first >= n {
+                    break;
                 }
-                if r < n && Self::less(&self.entries[r], &best) {
-                    m = r;
+                let mut m = first;
+                for c in first + 1..(first + ARITY).min(n) {
+                    if Self::less(&self.entries[c], &self.entries[m]) {
+                        m = c;
+                    }
                 }
-                if m == i {
+                if !Self::less(&self.entries[m], &last) {
                     break;
                 }
                 let child = self.entries[m];
@@ -244,25 +259,49 @@ impl<'a> Solver<'a> {
     pub(super) fn run(&mut self, progress: Option<Progress>) {
         let nv = self.dist.len();
         let mut progress = progress;
-        let mut done = 0usize;
-        // Each pop settles a vertex (a vertex is queued only while unsettled, once at most):
-        // at most one pop per vertex, so the loop ends.
-        while let Some(Entry { v, .. }) = self.heap.pop() {
-            let v = v as usize;
-            self.settled[v] = true;
-            done += 1;
+        // The settling runs in chunks of a function kept out of line: a WebAssembly engine
+        // (V8) first runs a function's quickly compiled baseline code and switches to its
+        // optimised code only at a later call, so a loop settling every vertex in one call
+        // ran baseline code to its end (the first distance on the 500k cap executed 2.4 G
+        // instructions in Node, 2.0 G in chunks; 1.8 G once compiled). The first chunk
+        // makes the function hot; the second call site keeps wasm-opt from inlining it here
+        // again (it inlines a function called once). Each chunk settles `CHUNK` vertices or
+        // empties the queue, so the loop ends.
+        if !self.settle_next(CHUNK) {
+            return;
+        }
+        let mut done = CHUNK;
+        while self.settle_next(CHUNK) {
+            done += CHUNK;
             if done % PROGRESS_EVERY == 0 {
                 if let Some(p) = progress.as_mut() {
                     p("distance", done as f64 / nv as f64);
                 }
             }
-            self.settle(v);
         }
     }
 
+    /// Settles up to `count` vertices, nearest first; `false` when the queue ran empty.
+    #[inline(never)]
+    fn settle_next(&mut self, count: usize) -> bool {
+        // Each pop settles a vertex (a vertex is queued only while unsettled, once at most):
+        // at most one pop per vertex.
+        for _ in 0..count {
+            let Some(Entry { v, .. }) = self.heap.pop() else {
+                return false;
+            };
+            let v = v as usize;
+            self.settled[v] = true;
+            self.settle(v);
+        }
+        true
+    }
+
     /// The source of settled vertex `u` moved into the plane of face `t` (about `u`), or
-    /// `None` when the two faces are folded onto each other.
-    #[inline]
+    /// `None` when the two faces are folded onto each other. Inlined, as are [`Self::offer`]
+    /// and [`Self::improve`]: V8 does not inline WebAssembly calls and spills every live
+    /// value around one (a repeated distance on the 500k sphere: 1.7 G → 1.5 G instructions).
+    #[inline(always)]
     pub(super) fn moved(&self, u: usize, t: usize) -> Option<Virtual> {
         let s = self.src[u];
         if s.face as usize == t {
@@ -293,7 +332,7 @@ impl<'a> Solver<'a> {
     /// Distance offered to `x` by source `s` (in the plane of face `t`) when the straight
     /// segment from its nearest point to `x` crosses edge `[a, b]` of `t` (opposite `x`). An
     /// offer no better than `x` has is returned unchecked (it changes nothing).
-    #[inline]
+    #[inline(always)]
     fn offer(&self, s: &Virtual, t: usize, x: usize, a: usize, b: usize) -> Option<Real> {
         let pos = self.surface.mesh.positions();
         let (px, pa, pb) = (pos[x], pos[a], pos[b]);
@@ -326,6 +365,7 @@ impl<'a> Solver<'a> {
         self.bend[u] == 2
     }
 
+    #[inline(always)]
     pub(super) fn improve(&mut self, x: usize, d: Real, s: Virtual) {
         if d < self.dist[x] {
             self.dist[x] = d;
@@ -342,6 +382,8 @@ impl<'a> Solver<'a> {
         let mesh = surface.mesh;
         let pos = mesh.positions();
         let mut open = false;
+        let su = self.src[u];
+        let (pu, du) = (pos[u], self.dist[u]);
         for &t in surface.faces_of(u) {
             let t = t as usize;
             let tri = mesh.triangles()[t];
@@ -351,11 +393,40 @@ impl<'a> Solver<'a> {
                 continue;
             }
             open = true;
-            let from_u = self.moved(u, t);
+            // Offers are checked first with x turned back about u into the plane of u's
+            // source (the inverse of moving the source, one rotation instead of two for a
+            // segment); most cannot improve x and need no more.
+            let normals = &surface.face_normals;
+            let (n1, n2) = (&normals[su.face as usize], &normals[t]);
+            let same = su.face as usize == t;
+            let c = if same { 1.0 } else { n1.dot(n2) };
+            let mut from_u = None;
             for (x, y) in [(p, q), (q, p)] {
                 if self.settled[x] {
                     continue;
                 }
+                let ux = pos[x] - pu;
+                let ux_len = ux.norm();
+                let direct = du + ux_len;
+                if c > FOLD_COSINE {
+                    let xb = if same {
+                        pos[x]
+                    } else {
+                        pu + rotate(ux, n2, n1)
+                    };
+                    let w_len = (xb - foot(&xb, &su.p, &su.q, su.extend, self.reach)).norm();
+                    let lower = su.sigma + w_len;
+                    let slack = BOUND_SLACK * (su.sigma.abs() + w_len + ux_len);
+                    if lower - slack >= self.dist[x] {
+                        // The full offer would be no better than x's distance: only the
+                        // bend at u can change x.
+                        if direct < self.dist[x] && self.bends_at(u) {
+                            self.improve(x, direct, Virtual::point(pu, du, t as u32));
+                        }
+                        continue;
+                    }
+                }
+                let from_u = *from_u.get_or_insert_with(|| self.moved(u, t));
                 let mut best = from_u.and_then(|s| Some((self.offer(&s, t, x, u, y)?, s)));
                 // A settled y offered its own source to x across the same edge when it was
                 // settled; it matters again only as the alternative to a bend at u.
@@ -366,12 +437,10 @@ impl<'a> Solver<'a> {
                 }
                 // The path bending at u: a new point source there (exact at saddle and
                 // boundary vertices; elsewhere only when no unfolded ray reaches x).
-                let (du, ux) = (self.dist[u], pos[x] - pos[u]);
-                let direct = || du + ux.norm();
-                let at_u = Virtual::point(pos[u], self.dist[u], t as u32);
+                let at_u = Virtual::point(pu, du, t as u32);
                 match best {
-                    Some((d, s)) if !(direct() < d && self.bends_at(u)) => self.improve(x, d, s),
-                    _ => self.improve(x, direct(), at_u),
+                    Some((d, s)) if !(direct < d && self.bends_at(u)) => self.improve(x, d, s),
+                    _ => self.improve(x, direct, at_u),
                 }
             }
         }
