@@ -22,7 +22,7 @@
 //!         target included). With `bestDirection`, the pass direction turned by 90° and ±45°
 //!         is tried at the chosen spacing too (no paper).
 
-use super::deposition::{deposit, deposit_except, SprayModel};
+use super::deposition::{deposit_except, SprayModel};
 use super::grid::PointGrid;
 use super::params::{SprayError, SprayParams};
 use super::quality::{evaluate_quality, interior_mask, Quality, ThicknessStats};
@@ -168,6 +168,8 @@ struct Sampling {
     /// [`SOLVE_SAMPLE_FRACTION`] of them (a mesh finer than the resolution): the speed
     /// optimiser solves on these, and the plan's speeds are then deposited on all samples.
     solve: Option<Box<Sampling>>,
+    /// Per sample: whether it is one of `solve`'s (its thickness comes from the optimiser).
+    solved: Vec<bool>,
 }
 
 impl Sampling {
@@ -183,6 +185,7 @@ impl Sampling {
             origin,
             samples,
             solve: None,
+            solved: Vec::new(),
         })
     }
 
@@ -198,6 +201,12 @@ impl Sampling {
                     <= SOLVE_SAMPLE_FRACTION * self.samples.positions.len() as Real
             })
             .map(Box::new);
+        if let Some(solve) = &self.solve {
+            self.solved = vec![false; self.samples.positions.len()];
+            for &i in &solve.origin {
+                self.solved[i] = true;
+            }
+        }
         self
     }
 
@@ -230,6 +239,7 @@ impl Sampling {
             interior,
             origin: Vec::new(),
             solve: None,
+            solved: Vec::new(),
         })
     }
 }
@@ -322,11 +332,8 @@ impl Setup<'_> {
         // optimiser solved on (thinned from these): the same sums, in another order.
         let mut thickness = match (solved, sampling.solve.as_deref()) {
             (Some(t), None) => t,
-            (Some(t), Some(solve)) => {
-                let mut known = vec![false; sampling.samples.positions.len()];
-                for &i in &solve.origin {
-                    known[i] = true;
-                }
+            (solved, solve) => {
+                let given = solved.zip(solve);
                 let mut all = deposit_except(
                     &path,
                     &sampling.samples,
@@ -334,21 +341,15 @@ impl Setup<'_> {
                     &self.model,
                     v0,
                     self.time_step,
-                    Some(&known),
+                    given.is_some().then_some(&sampling.solved[..]),
                 )?;
-                for (&i, &ti) in solve.origin.iter().zip(&t) {
-                    all[i] = ti;
+                if let Some((t, solve)) = given {
+                    for (&i, &ti) in solve.origin.iter().zip(&t) {
+                        all[i] = ti;
+                    }
                 }
                 all
             }
-            (None, _) => deposit(
-                &path,
-                &sampling.samples,
-                &sampling.grid,
-                &self.model,
-                v0,
-                self.time_step,
-            )?,
         };
         let (mut quality, empty_interior) =
             evaluate_quality(&thickness, &sampling.samples.weights, &sampling.interior);
