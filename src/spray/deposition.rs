@@ -118,6 +118,10 @@ pub const CHUNK_TURN_RAD: Real = 0.1;
 /// A piece whose travel has `1 − k·(u·a)² ` below this (`k = 1 + R²/h²`, `u` the travel,
 /// `a` the axis) moves too much along its axis for the chord formula; it is time-stepped.
 const MIN_LATERAL: Real = 0.5;
+/// A piece whose poses' axes differ by at most this (unit vectors), whose poses lie within
+/// this fraction of its length from its chord and whose length is within it of the chord's
+/// is integrated as a straight line under its first axis.
+const STRAIGHT_TOLERANCE: Real = 1e-9;
 
 /// Thickness per sample after spraying `path`: at speed `speed` along every gun-on move, or
 /// at the path's per-move speeds ([`ToolPath::speeds`]) when it has them.
@@ -128,8 +132,11 @@ const MIN_LATERAL: Real = 0.5;
 /// inside the cone is found in closed form (a quadratic in the line parameter), and the rate
 /// is integrated over that chord by Gauss–Legendre at the exact interpolated poses (over
 /// each stretch of one speed, the quadratic through the three nodes). On a plane under a
-/// constant axis the rate along the chord is a parabola, so both are exact there. Pieces moving nearly along their axis fall back to midpoint time steps of
-/// `time_step`, which also bounds the work ([`MAX_TIME_SAMPLES`]).
+/// constant axis the rate along the chord is a parabola, so both are exact there. On a
+/// straight piece under one axis (a pass along a flat or ruled strip) the gun's position is
+/// linear in arc length and is not looked up move by move. Pieces moving nearly along their
+/// axis fall back to midpoint time steps of `time_step`, which also bounds the work
+/// ([`MAX_TIME_SAMPLES`]).
 pub fn deposit(
     path: &ToolPath,
     samples: &EvaluationSamples,
@@ -174,7 +181,7 @@ pub(super) fn deposit_except(
                 model,
                 step_length,
                 known,
-                &mut |i, segment, v| thickness[i] += v * inverse_speeds[segment],
+                |i, segment, v| thickness[i] += v * inverse_speeds[segment],
             );
         },
     );
@@ -333,7 +340,7 @@ pub(super) fn deposit_piece(
     model: &SprayModel,
     step_length: Real,
     skip: Option<&[bool]>,
-    add: &mut dyn FnMut(usize, usize, Real),
+    mut add: impl FnMut(usize, usize, Real),
 ) {
     let arc = cumulative[cumulative.len() - 1];
     if arc <= 0.0 || segments.is_empty() {
@@ -361,7 +368,7 @@ pub(super) fn deposit_piece(
             model,
             step_length,
             skip,
-            add,
+            &mut add,
         );
         return;
     }
@@ -387,6 +394,17 @@ pub(super) fn deposit_piece(
         .collect();
     let inv_c2 = 1.0 / c2;
     let inv_ua = if ua != 0.0 { 1.0 / ua } else { 0.0 };
+    // A straight piece under one axis (a pass along a flat or ruled strip): the gun moves
+    // along the chord at a constant rate of arc length, so a pose needs no search.
+    let straight = arc <= line * (1.0 + STRAIGHT_TOLERANCE)
+        && poses.iter().all(|p| {
+            (p.axis - first.axis).norm_squared() <= STRAIGHT_TOLERANCE * STRAIGHT_TOLERANCE && {
+                let w = p.position - first.position;
+                let along = w.dot(&u);
+                (w - u * along).norm_squared() <= (STRAIGHT_TOLERANCE * line).powi(2)
+            }
+        });
+    let step = chord / arc;
     grid.for_each_in_box(&lo, &hi, |i| {
         if skip.is_some_and(|s| s[i]) {
             return;
@@ -420,13 +438,20 @@ pub(super) fn deposit_piece(
         // The chord in arc length; the rate at its three Gauss nodes.
         let (a0, a1) = (s0 * to_arc, s1 * to_arc);
         let (mid, half) = (0.5 * (a0 + a1), 0.5 * (a1 - a0));
-        // The move the chord starts in; the nodes along it walk on from there.
-        let mut hint = cumulative[1..].partition_point(|&c| c < a0);
         let n = &samples.normals[i];
-        let f = GAUSS_NODES.map(|x| {
-            let (gun, axis) = pose_at(poses, cumulative, &inverse, mid + half * x, &mut hint);
-            model.rate(&(q - gun), &axis, n)
-        });
+        let f = if straight {
+            GAUSS_NODES.map(|x| {
+                let gun = first.position + step * (mid + half * x);
+                model.rate(&(q - gun), &first.axis, n)
+            })
+        } else {
+            // The move the chord starts in; the nodes along it walk on from there.
+            let mut hint = cumulative[1..].partition_point(|&c| c < a0);
+            GAUSS_NODES.map(|x| {
+                let (gun, axis) = pose_at(poses, cumulative, &inverse, mid + half * x, &mut hint);
+                model.rate(&(q - gun), &axis, n)
+            })
+        };
         let first = segments.partition_point(|&x| x <= a0).saturating_sub(1);
         if segments.get(first + 1).is_none_or(|&x| x >= a1) {
             // One segment: Gauss–Legendre over the chord.
@@ -439,19 +464,19 @@ pub(super) fn deposit_piece(
         // Several: the quadratic through the three nodes (the rate itself on a plane under
         // a constant axis), integrated over each stretch; the stretches sum to the
         // Gauss–Legendre value.
-        let integral = |t: Real| {
-            let (t2, t3) = (t * t, t * t * t / 3.0);
-            let c = GAUSS_NODES[2];
-            f[0] * (t3 - 0.5 * c * t2) / (2.0 * c * c)
-                + f[1] * (t - t3 / (c * c))
-                + f[2] * (t3 + 0.5 * c * t2) / (2.0 * c * c)
-        };
+        // Its antiderivative αt³ + βt² + γt in t ∈ [−1, 1] (nodes at 0 and ±c).
+        let c = GAUSS_NODES[2];
+        let alpha = (f[0] + f[2] - 2.0 * f[1]) * (1.0 / (6.0 * c * c));
+        let beta = (f[2] - f[0]) * (1.0 / (4.0 * c));
+        let gamma = f[1];
+        let integral = |t: Real| ((alpha * t + beta) * t + gamma) * t;
+        let inv_half = 1.0 / half;
         let mut lower = integral(-1.0);
         let mut segment = first;
         // Each round moves to the next segment, so the loop ends.
         while segment < segments.len() {
-            let to = segments.get(segment + 1).map_or(a1, |&x| a1.min(x));
-            let upper = integral(((to - mid) / half).clamp(-1.0, 1.0));
+            let to = segments.get(segment + 1).map_or(a1, |&x| at_most(x, a1));
+            let upper = integral(at_least(at_most((to - mid) * inv_half, 1.0), -1.0));
             let v = half * (upper - lower);
             if v > 0.0 {
                 add(i, segment, v);
@@ -477,7 +502,7 @@ fn deposit_stepped(
     model: &SprayModel,
     step_length: Real,
     skip: Option<&[bool]>,
-    add: &mut dyn FnMut(usize, usize, Real),
+    add: &mut impl FnMut(usize, usize, Real),
 ) {
     for (m, pair) in poses.windows(2).enumerate() {
         let (p0, p1) = (&pair[0], &pair[1]);

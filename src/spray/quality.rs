@@ -144,11 +144,14 @@ pub fn interior_mask(
     // `band` of all of them: those cubes are decided once, not sample by sample.
     let half_diagonal = 0.5 * piece * 3f64.sqrt() * (1.0 + 1e-9);
     // The pieces within reach of a cube of side `piece` are listed once for all the samples
-    // in it (samples come stored cell by cell, so runs share a cube); far from the boundary
-    // the list is empty.
+    // in it (samples come stored cell by cell, so runs share a cube, but the sample grid's
+    // cells need not line up with these cubes: a cube met again is looked up, not listed
+    // again); far from the boundary the list is empty.
+    let mut cubes: rustc_hash::FxHashMap<[i64; 3], (bool, u32, u32)> =
+        rustc_hash::FxHashMap::default();
+    let mut lists: Vec<u32> = Vec::new();
     let mut cube: Option<[i64; 3]> = None;
-    let mut near: Vec<u32> = Vec::new();
-    let mut all_near = false;
+    let (mut all_near, mut near) = (false, 0..0);
     samples
         .iter()
         .map(|x| {
@@ -156,22 +159,31 @@ pub fn interior_mask(
             let key = [0, 1, 2].map(|a| (x[a] / piece).floor() as i64);
             if cube != Some(key) {
                 cube = Some(key);
-                near.clear();
-                all_near = false;
-                let lo = crate::math::Vector3::from(key.map(|k| k as Real * piece - reach));
-                let hi = crate::math::Vector3::from(key.map(|k| (k + 1) as Real * piece + reach));
-                let centre = Point3::from(key.map(|k| (k as Real + 0.5) * piece));
-                grid.any_in_box(&lo, &hi, |i| {
-                    let d = distance(&centre, i as u32);
-                    if d + half_diagonal < band {
-                        all_near = true;
-                    } else if d - half_diagonal < band {
-                        near.push(i as u32);
+                let (all, from, to) = *cubes.entry(key).or_insert_with(|| {
+                    let from = lists.len() as u32;
+                    let mut all = false;
+                    let lo = crate::math::Vector3::from(key.map(|k| k as Real * piece - reach));
+                    let hi =
+                        crate::math::Vector3::from(key.map(|k| (k + 1) as Real * piece + reach));
+                    let centre = Point3::from(key.map(|k| (k as Real + 0.5) * piece));
+                    grid.any_in_box(&lo, &hi, |i| {
+                        let d = distance(&centre, i as u32);
+                        if d + half_diagonal < band {
+                            all = true;
+                        } else if d - half_diagonal < band {
+                            lists.push(i as u32);
+                        }
+                        all
+                    });
+                    if all {
+                        lists.truncate(from as usize);
                     }
-                    all_near
+                    (all, from, lists.len() as u32)
                 });
+                all_near = all;
+                near = from as usize..to as usize;
             }
-            !all_near && !near.iter().any(|&i| distance(x, i) < band)
+            !all_near && !lists[near.clone()].iter().any(|&i| distance(x, i) < band)
         })
         .collect()
 }

@@ -204,33 +204,36 @@ pub fn sample_faces(
         let grid = &grids[grid_start[n]..];
         debug_assert_eq!(grid.len(), (k + 1) * (k + 2) / 2);
         let index = |i: usize, j: usize| index(k, i, j);
-        let sub_area = geometry.areas()[f] / (k * k) as Real;
-        let add = |out: &mut EvaluationSamples, t: [u32; 3]| {
-            for s in t {
-                out.weights[s as usize] += sub_area / 3.0;
-                out.normals[s as usize] += normal * sub_area;
+        // Each sub-triangle gives a third of its area (and its area times the face normal)
+        // to each of its corners; a grid point is a corner of 1 sub-triangle at a corner of
+        // the face, 3 on an edge, 6 inside: added once per point, not per sub-triangle.
+        let third = geometry.areas()[f] / (k * k) as Real / 3.0;
+        for j in 0..=k {
+            for i in 0..=(k - j) {
+                let on_edges = usize::from(j == 0) + usize::from(i == 0) + usize::from(i + j == k);
+                let share = match on_edges {
+                    0 => 6.0,
+                    1 => 3.0,
+                    _ => 1.0,
+                } * third;
+                let s = grid[index(i, j)] as usize;
+                out.weights[s] += share;
+                out.normals[s] += normal * (3.0 * share);
             }
-            out.triangles.push(t);
-        };
+        }
         for j in 0..k {
             for i in 0..(k - j) {
-                add(
-                    &mut out,
-                    [
-                        grid[index(i, j)],
-                        grid[index(i + 1, j)],
-                        grid[index(i, j + 1)],
-                    ],
-                );
+                out.triangles.push([
+                    grid[index(i, j)],
+                    grid[index(i + 1, j)],
+                    grid[index(i, j + 1)],
+                ]);
                 if i + j + 2 <= k {
-                    add(
-                        &mut out,
-                        [
-                            grid[index(i + 1, j)],
-                            grid[index(i + 1, j + 1)],
-                            grid[index(i, j + 1)],
-                        ],
-                    );
+                    out.triangles.push([
+                        grid[index(i + 1, j)],
+                        grid[index(i + 1, j + 1)],
+                        grid[index(i, j + 1)],
+                    ]);
                 }
             }
         }

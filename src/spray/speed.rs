@@ -234,7 +234,7 @@ fn coating_matrix(
                 model,
                 step_length,
                 None,
-                &mut |i, segment, v| entries.push((owner[segment], i as u32, v * per_speed)),
+                |i, segment, v| entries.push((owner[segment], i as u32, v * per_speed)),
             );
         },
     );
@@ -394,6 +394,7 @@ impl Problem<'_> {
         pattern.start.push(0);
         let mut acc = vec![0.0; m];
         let mut seen = vec![false; m];
+        pattern.diagonal = vec![0.0; m];
         for j in 0..m {
             let from = pattern.pieces.len();
             self.accumulate(j, w, &mut acc, |k| {
@@ -402,13 +403,19 @@ impl Problem<'_> {
                     pattern.pieces.push(k as u32);
                 }
             });
+            // The same sums as [`Problem::regram`] forms on this pattern.
             for &k in &pattern.pieces[from..] {
-                seen[k as usize] = false;
-                acc[k as usize] = 0.0;
+                let k = k as usize;
+                pattern.values.push(acc[k]);
+                if k == j {
+                    pattern.diagonal[j] = acc[k];
+                }
+                seen[k] = false;
+                acc[k] = 0.0;
             }
             pattern.start.push(pattern.pieces.len());
         }
-        self.regram(w, &pattern)
+        pattern
     }
 
     /// `H` for the sample weights `w` on the sparsity of `pattern`, an `H` built for weights
