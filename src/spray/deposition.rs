@@ -286,6 +286,52 @@ fn cone_box(model: &SprayModel, gun: &Point3, axis: &Vector3) -> (Vector3, Vecto
     (gun.coords.inf(&(tip - half)), gun.coords.sup(&(tip + half)))
 }
 
+/// The cone of a gun at `origin + s·(across + ua·axis)`, `s` in `[0, line]`, along `axis`
+/// (unit), of half-angle `atan(tan)`, truncated at `reach` along the axis: the points `p`
+/// with `0 < l ≤ reach` and `|w − l·axis| < tan·l` for some `s`, where `w = p − gun(s)` and
+/// `l = w·axis` (the chord's cone in [`deposit_piece`]).
+struct SweptCone {
+    origin: Point3,
+    axis: Vector3,
+    /// The travel's part across the axis (the travel is unit).
+    across: Vector3,
+    line: Real,
+    /// The travel's part along the axis.
+    ua: Real,
+    tan: Real,
+    reach: Real,
+}
+
+impl SweptCone {
+    /// Whether the ball of `radius` about `c` may hold points of the cone (false only when
+    /// it holds none): along the axis every point of the ball is within `radius` of `c`'s
+    /// range over the sweep, and across it no nearer to the swept axis than `c` less
+    /// `radius`.
+    fn may_meet(&self, c: &Point3, radius: Real) -> bool {
+        let w = c - self.origin;
+        let l = w.dot(&self.axis);
+        let l_end = l - self.line * self.ua;
+        let (l_lo, l_hi) = if l < l_end { (l, l_end) } else { (l_end, l) };
+        if l_hi + radius <= 0.0 || l_lo - radius > self.reach {
+            return false;
+        }
+        // Distance across the axis from the swept axis (a segment in the plane across).
+        let w_across = w - self.axis * l;
+        let across2 = self.across.norm_squared();
+        let t = if across2 > 0.0 {
+            at_most(
+                at_least(w_across.dot(&self.across) / across2, 0.0),
+                self.line,
+            )
+        } else {
+            0.0
+        };
+        let d = (w_across - self.across * t).norm() - radius;
+        let cone = self.tan * at_most(l_hi + radius, self.reach);
+        d <= 0.0 || d * d <= cone * cone * (1.0 + 1e-9)
+    }
+}
+
 /// Gun position and unit axis at arc length `sigma` along a piece (`inverse`: one over each
 /// move's length, 0 for a move of none); `hint` is the move the previous call ended in (the
 /// search walks on from there when `sigma` lies further on, as it does along one chord) and
@@ -405,7 +451,19 @@ pub(super) fn deposit_piece(
             }
         });
     let step = chord / arc;
-    grid.for_each_in_box(&lo, &hi, |i| {
+    // A cell is visited only if its bounding sphere can meet the swept cone, the set the
+    // chord below is cut from.
+    let swept = SweptCone {
+        origin: first.position,
+        axis: mean_axis,
+        across: u - mean_axis * ua,
+        line,
+        ua,
+        tan: (k - 1.0).sqrt(),
+        reach,
+    };
+    let near = |c: &Point3, radius: Real| swept.may_meet(c, radius);
+    grid.for_each_in_box_near(&lo, &hi, near, |i| {
         if skip.is_some_and(|s| s[i]) {
             return;
         }
@@ -530,5 +588,72 @@ fn deposit_stepped(
                 }
             });
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Whether `p` lies in the swept cone, by the definition, over `steps` gun positions.
+    fn inside(cone: &SweptCone, p: &Point3, steps: usize) -> bool {
+        (0..=steps).any(|j| {
+            let s = cone.line * j as Real / steps as Real;
+            let gun = cone.origin + (cone.across + cone.axis * cone.ua) * s;
+            let w = p - gun;
+            let l = w.dot(&cone.axis);
+            l > 0.0 && l <= cone.reach && (w - cone.axis * l).norm() < cone.tan * l
+        })
+    }
+
+    /// Every ball holding a point of the swept cone is kept; most balls far from it are not.
+    #[test]
+    fn the_swept_cone_test_keeps_every_ball_that_meets_the_cone() {
+        // A gun looking down −z at 100, moving along a direction tilted into the axis.
+        let axis = -Vector3::z();
+        let travel = Vector3::new(0.8, 0.2, -0.3).normalize();
+        let ua = travel.dot(&axis);
+        let cone = SweptCone {
+            origin: Point3::new(0.0, 0.0, 100.0),
+            axis,
+            across: travel - axis * ua,
+            line: 120.0,
+            ua,
+            tan: 0.5,
+            reach: 150.0,
+        };
+        let radius = 9.0;
+        let (mut met, mut refused) = (0, 0);
+        // Ball centres on a lattice; each ball probed at 15 points.
+        for i in -6..=12 {
+            for j in -6..=6 {
+                for k in -4..=7 {
+                    let c = Point3::new(20.0 * i as Real, 20.0 * j as Real, 20.0 * k as Real);
+                    let keep = cone.may_meet(&c, radius);
+                    // The centre, 6 points on the axes and 8 on the diagonals of the ball.
+                    let probes = (0..27).filter_map(|n| {
+                        let d = Vector3::new(
+                            (n % 3) as Real - 1.0,
+                            (n / 3 % 3) as Real - 1.0,
+                            (n / 9) as Real - 1.0,
+                        );
+                        let len = d.norm_squared();
+                        match len as u32 {
+                            0 => Some(c),
+                            1 | 3 => Some(c + d * (radius / len.sqrt())),
+                            _ => None,
+                        }
+                    });
+                    if probes.into_iter().any(|p| inside(&cone, &p, 24)) {
+                        assert!(keep, "a ball at {c:?} meets the cone but was dropped");
+                        met += 1;
+                    } else if !keep {
+                        refused += 1;
+                    }
+                }
+            }
+        }
+        assert!(met > 100, "only {met} balls meet the cone");
+        assert!(refused > 1000, "only {refused} balls refused");
     }
 }

@@ -140,6 +140,56 @@ impl PointGrid {
         false
     }
 
+    /// [`PointGrid::for_each_in_box`], skipping at both ends of each row of cells the cells
+    /// for which `near(centre, half_diagonal)` is false: `near` must be true for every cell
+    /// holding a point the caller wants (a conservative test of the cell's bounding sphere).
+    /// The cells between the first and the last near one of a row are all visited.
+    pub fn for_each_in_box_near(
+        &self,
+        lo: &Vector3,
+        hi: &Vector3,
+        mut near: impl FnMut(&Point3, Real) -> bool,
+        mut visit: impl FnMut(usize),
+    ) {
+        for a in 0..3 {
+            if hi[a] < self.origin[a] || lo[a] > self.origin[a] + self.cell * self.dims[a] as Real {
+                return;
+            }
+        }
+        let l = [0, 1, 2].map(|a| self.coord(lo[a], a));
+        let h = [0, 1, 2].map(|a| self.coord(hi[a], a));
+        let radius = 0.5 * self.cell * 3f64.sqrt() * (1.0 + 1e-9);
+        let centre = |a: usize, c: usize| self.origin[a] + (c as Real + 0.5) * self.cell;
+        for k in l[2]..=h[2] {
+            for j in l[1]..=h[1] {
+                let row = (k * self.dims[1] + j) * self.dims[0];
+                let (y, z) = (centre(1, j), centre(2, k));
+                let at = |i: usize| Point3::new(centre(0, i), y, z);
+                // Each step moves one cell in, so both loops end.
+                let mut first = l[0];
+                while first <= h[0] && !near(&at(first), radius) {
+                    first += 1;
+                }
+                if first > h[0] {
+                    continue;
+                }
+                let mut last = h[0];
+                while last > first && !near(&at(last), radius) {
+                    last -= 1;
+                }
+                let (s, e) = (
+                    self.start[row + first] as usize,
+                    self.start[row + last + 1] as usize,
+                );
+                if self.in_order {
+                    (s..e).for_each(&mut visit);
+                } else {
+                    self.ids[s..e].iter().for_each(|&id| visit(id as usize));
+                }
+            }
+        }
+    }
+
     /// Calls `visit(id)` for every point in a cell overlapping the box `[lo, hi]` (a superset
     /// of the points inside the box).
     pub fn for_each_in_box(&self, lo: &Vector3, hi: &Vector3, mut visit: impl FnMut(usize)) {
@@ -160,6 +210,52 @@ mod tests {
         grid.for_each_in_box(&Vector3::from(lo), &Vector3::from(hi), |i| found.push(i));
         found.sort_unstable();
         found
+    }
+
+    /// Trimming rows by a conservative cell test keeps every point the test is for, and
+    /// visits fewer than the whole box.
+    #[test]
+    fn rows_trimmed_by_a_cell_test_keep_every_point_it_is_for() {
+        let points: Vec<Point3> = (0..4000)
+            .map(|i| {
+                let t = i as Real;
+                Point3::new(
+                    (t * 0.618).fract() * 10.0,
+                    (t * 0.414).fract() * 10.0,
+                    (t * 0.732).fract() * 2.0,
+                )
+            })
+            .collect();
+        let first = PointGrid::new(&points, 0.7);
+        let moved: Vec<Point3> = first.order().iter().map(|&i| points[i as usize]).collect();
+        let grid = first.reordered();
+        // A ball; a cell may hold its points when its bounding sphere meets it.
+        let (centre, r) = (Point3::new(4.0, 5.0, 1.0), 3.0);
+        let (lo, hi) = (
+            centre.coords - Vector3::repeat(r),
+            centre.coords + Vector3::repeat(r),
+        );
+        let mut near = Vec::new();
+        grid.for_each_in_box_near(
+            &lo,
+            &hi,
+            |c, radius| (c - centre).norm() <= r + radius,
+            |i| near.push(i),
+        );
+        let mut all = Vec::new();
+        grid.for_each_in_box(&lo, &hi, |i| all.push(i));
+        let inside: Vec<usize> = (0..moved.len())
+            .filter(|&i| (moved[i] - centre).norm() <= r)
+            .collect();
+        assert!(inside.len() > 300);
+        assert!(inside.iter().all(|i| near.contains(i)));
+        assert!(near.iter().all(|i| all.contains(i)));
+        assert!(
+            near.len() < all.len() * 9 / 10,
+            "{} of {}",
+            near.len(),
+            all.len()
+        );
     }
 
     #[test]
