@@ -125,13 +125,37 @@ pub(super) fn foot(x: &Point3, p: &Point3, q: &Point3, extend: [bool; 2], reach:
     }
 }
 
-/// `w` rotated by the smallest rotation taking unit `n1` to unit `n2` (Rodrigues, with
-/// `k = n1 × n2`: `R w = c·w + k × w + k (k·w) / (1 + c)`, `c = n1·n2`).
-#[inline]
-pub(super) fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
-    let c = n1.dot(n2);
-    let k = n1.cross(n2);
-    w * c + k.cross(&w) + k * (k.dot(&w) / (1.0 + c))
+/// The smallest rotation taking unit `n1` to unit `n2` (Rodrigues, with `k = n1 × n2`:
+/// `R w = c·w + k × w + k (k·w) / (1 + c)`, `c = n1·n2`), kept to turn several vectors
+/// between the same two faces.
+#[derive(Clone, Copy)]
+struct Rotation {
+    c: Real,
+    k: Vector3,
+}
+
+impl Rotation {
+    #[inline(always)]
+    fn new(n1: &Vector3, n2: &Vector3) -> Self {
+        Rotation {
+            c: n1.dot(n2),
+            k: n1.cross(n2),
+        }
+    }
+
+    #[inline(always)]
+    fn apply(&self, w: Vector3) -> Vector3 {
+        let k = &self.k;
+        w * self.c + k.cross(&w) + k * (k.dot(&w) / (1.0 + self.c))
+    }
+
+    /// The inverse rotation applied to `w`: the rotation from `n2` to `n1` (its axis is
+    /// `−k`; negating is exact, so this equals `Rotation::new(n2, n1).apply(w)` to the bit).
+    #[inline(always)]
+    fn unapply(&self, w: Vector3) -> Vector3 {
+        let k = &self.k;
+        w * self.c - k.cross(&w) + k * (k.dot(&w) / (1.0 + self.c))
+    }
 }
 
 /// A 4-ary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
@@ -308,25 +332,28 @@ impl<'a> Solver<'a> {
             return Some(s);
         }
         let normals = &self.surface.face_normals;
-        let (n1, n2) = (&normals[s.face as usize], &normals[t]);
-        if n1.dot(n2) <= FOLD_COSINE {
-            return None;
-        }
+        let r = Rotation::new(&normals[s.face as usize], &normals[t]);
+        (r.c > FOLD_COSINE).then(|| self.turned(&s, u, t, &r))
+    }
+
+    /// Source `s` of `u` turned about `u` by `r` into the plane of face `t`.
+    #[inline(always)]
+    fn turned(&self, s: &Virtual, u: usize, t: usize, r: &Rotation) -> Virtual {
         let pu = self.surface.mesh.positions()[u];
-        let p = pu + rotate(s.p - pu, n1, n2);
+        let p = pu + r.apply(s.p - pu);
         // A point source (p = q) is turned once.
         let q = if s.q == s.p {
             p
         } else {
-            pu + rotate(s.q - pu, n1, n2)
+            pu + r.apply(s.q - pu)
         };
-        Some(Virtual {
+        Virtual {
             p,
             q,
             sigma: s.sigma,
             face: t as u32,
             extend: s.extend,
-        })
+        }
     }
 
     /// Distance offered to `x` by source `s` (in the plane of face `t`) when the straight
@@ -396,10 +423,11 @@ impl<'a> Solver<'a> {
             // Offers are checked first with x turned back about u into the plane of u's
             // source (the inverse of moving the source, one rotation instead of two for a
             // segment); most cannot improve x and need no more.
+            // The rotation from the plane of u's source into t's, shared by both neighbours.
             let normals = &surface.face_normals;
-            let (n1, n2) = (&normals[su.face as usize], &normals[t]);
             let same = su.face as usize == t;
-            let c = if same { 1.0 } else { n1.dot(n2) };
+            let r = Rotation::new(&normals[su.face as usize], &normals[t]);
+            let c = if same { 1.0 } else { r.c };
             let mut from_u = None;
             for (x, y) in [(p, q), (q, p)] {
                 if self.settled[x] {
@@ -412,7 +440,7 @@ impl<'a> Solver<'a> {
                     let xb = if same {
                         pos[x]
                     } else {
-                        pu + rotate(ux, n2, n1)
+                        pu + r.unapply(ux)
                     };
                     let w_len = (xb - foot(&xb, &su.p, &su.q, su.extend, self.reach)).norm();
                     let lower = su.sigma + w_len;
@@ -426,7 +454,14 @@ impl<'a> Solver<'a> {
                         continue;
                     }
                 }
-                let from_u = *from_u.get_or_insert_with(|| self.moved(u, t));
+                // self.moved(u, t), with the rotation at hand.
+                let from_u = *from_u.get_or_insert_with(|| {
+                    if same {
+                        Some(su)
+                    } else {
+                        (c > FOLD_COSINE).then(|| self.turned(&su, u, t, &r))
+                    }
+                });
                 let mut best = from_u.and_then(|s| Some((self.offer(&s, t, x, u, y)?, s)));
                 // A settled y offered its own source to x across the same edge when it was
                 // settled; it matters again only as the alternative to a bend at u.
@@ -546,6 +581,23 @@ pub(crate) fn propagate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
+        Rotation::new(n1, n2).apply(w)
+    }
+
+    #[test]
+    fn the_inverse_rotation_is_the_rotation_back_to_the_bit() {
+        let n1 = Vector3::new(0.1, -0.3, 0.7).normalize();
+        let n2 = Vector3::new(0.4, 0.2, 0.9).normalize();
+        for w in [
+            Vector3::new(0.3, -1.2, 0.05),
+            Vector3::new(-7.0, 0.001, 3.3),
+        ] {
+            let back = rotate(w, &n2, &n1);
+            assert_eq!(Rotation::new(&n1, &n2).unapply(w), back);
+        }
+    }
 
     #[test]
     fn rotation_takes_one_normal_to_the_other_and_keeps_lengths() {
