@@ -414,8 +414,15 @@ impl<'a> Solver<'a> {
         for &t in surface.faces_of(u) {
             let t = t as usize;
             let tri = mesh.triangles()[t];
-            let k = tri.iter().position(|&x| x as usize == u).unwrap_or(0);
-            let (p, q) = (tri[(k + 1) % 3] as usize, tri[(k + 2) % 3] as usize);
+            // The corners after u, in order (u is a corner of t).
+            let (p, q) = if tri[0] as usize == u {
+                (tri[1], tri[2])
+            } else if tri[1] as usize == u {
+                (tri[2], tri[0])
+            } else {
+                (tri[0], tri[1])
+            };
+            let (p, q) = (p as usize, q as usize);
             if self.settled[p] && self.settled[q] {
                 continue;
             }
