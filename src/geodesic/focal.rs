@@ -120,17 +120,23 @@ pub(super) fn refine_focal(
             .iter()
             .all(|&w| ring[w as usize] != u8::MAX)
     };
-    // Each face once: from its smallest corner.
-    let mut patch: Vec<u32> = Vec::with_capacity(faces_seen);
+    // Ascending without a sort: marked in a bit set over the faces, then read in order.
+    let mut marked = vec![0u64; mesh.triangle_count().div_ceil(64)];
     for &v in &reached {
         for &f in surface.faces_of(v) {
-            let t = mesh.triangles()[f as usize];
-            if t.iter().min() == Some(&(v as u32)) && in_patch(f as usize) {
-                patch.push(f);
+            if in_patch(f as usize) {
+                marked[f as usize / 64] |= 1 << (f % 64);
             }
         }
     }
-    patch.sort_unstable();
+    let mut patch: Vec<u32> = Vec::with_capacity(faces_seen / 3 + 1);
+    for (w, &bits) in marked.iter().enumerate() {
+        let mut bits = bits;
+        while bits != 0 {
+            patch.push((64 * w) as u32 + bits.trailing_zeros());
+            bits &= bits - 1;
+        }
+    }
     if patch.is_empty() || 4 * patch.len() > budget {
         return Ok(0);
     }
