@@ -203,6 +203,7 @@ pub(super) fn refine_focal(
         }
     }
     s2.run(None);
+    s2.free_queue();
     let used = 4 * patch.len();
     let used = used
         + refine_focal(

@@ -305,6 +305,15 @@ impl<'a> Solver<'a> {
         }
     }
 
+    /// Frees the queue and the per-vertex flags once [`Self::run`] has settled every vertex
+    /// (nothing is offered after that), so the focal refinement allocates into their memory
+    /// rather than growing the heap (first touches of new memory are slow in WebAssembly).
+    pub(super) fn free_queue(&mut self) {
+        self.heap = Queue::new(0);
+        self.settled = Vec::new();
+        self.bend = Vec::new();
+    }
+
     /// Settles up to `count` vertices, nearest first; `false` when the queue ran empty.
     #[inline(never)]
     fn settle_next(&mut self, count: usize) -> bool {
@@ -575,6 +584,7 @@ pub(crate) fn propagate(
         ));
     }
     s.run(Some(&mut *progress));
+    s.free_queue();
     focal::refine_focal(
         &mut s,
         focal::budget(surface.faces.len()),
