@@ -16,27 +16,40 @@ fn main() {
         let n = 2 * ((target / 12.0).sqrt() / 2.0).round() as usize;
         let s = shapes::cube_sphere(n, 100.0);
         let p = s.mesh.positions();
-        let v = (0..p.len()).min_by(|&a, &b| p[a].z.total_cmp(&p[b].z)).unwrap();
+        let v = (0..p.len())
+            .min_by(|&a, &b| p[a].z.total_cmp(&p[b].z))
+            .unwrap();
         (s, GeodesicSource::Vertices(vec![v as u32]))
     } else {
         let rings = (target / 6.0).sqrt().round() as usize;
-        (shapes::cap(rings, 1000.0, 1.0), GeodesicSource::Boundary { loop_index: None })
+        (
+            shapes::cap(rings, 1000.0, 1.0),
+            GeodesicSource::Boundary { loop_index: None },
+        )
     };
-    let p = s.mesh.positions().iter().map(|p| p.map(|c| c as f32 as Real)).collect();
+    let p = s
+        .mesh
+        .positions()
+        .iter()
+        .map(|p| p.map(|c| c as f32 as Real))
+        .collect();
     let s = shapes::shape(p, s.mesh.triangles().to_vec());
     let params = DistanceParams {
         method: Method::Accurate,
         ..DistanceParams::default()
     };
-    let f = geodesic_distance(&s.mesh, &s.adjacency, &src, &params, &mut |_, _| {})
-        .expect("distance");
+    let f =
+        geodesic_distance(&s.mesh, &s.adjacency, &src, &params, &mut |_, _| {}).expect("distance");
     // FNV-1a over the bits of every distance.
-    let hash = f.vertex_distance.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, d| {
-        d.to_bits()
-            .to_le_bytes()
-            .iter()
-            .fold(h, |h, &b| (h ^ b as u64).wrapping_mul(0x100_0000_01b3))
-    });
+    let hash = f
+        .vertex_distance
+        .iter()
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, d| {
+            d.to_bits()
+                .to_le_bytes()
+                .iter()
+                .fold(h, |h, &b| (h ^ b as u64).wrapping_mul(0x100_0000_01b3))
+        });
     println!(
         "{shape} {} triangles: {} vertices, hash {hash:016x}",
         s.mesh.triangle_count(),

@@ -22,11 +22,12 @@
 //!         / mean error in mm against the analytic distance): cap R 1000 from its rim, 500k
 //!         triangles 0.033 / 0.0012, 2M 0.020 / 0.0003 (fast marching 1.8 / 0.10 and
 //!         1.0 / 0.05); sphere R 100 from a point, 500k 0.0096 / 0.0005, 2M 0.0051 / 0.00013
-//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.6–1.6× fast marching's solve on a
-//!         shared, loaded machine (two runs: cap 500k 1.33 / 1.49, 2M 0.62 / 0.76, sphere
-//!         500k 1.34 / 1.59, 2M 0.81 / 0.73; the ratio moves that much between runs). The
-//!         bench times a first call in a fresh process: at 500k its fixed costs (the engine's
-//!         baseline code in loops run once, memory growth) weigh most.
+//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.4–1.1× fast marching's solve on a
+//!         shared, loaded machine (three runs: cap 500k 0.78 / 1.06 / 1.04, 2M 0.80 / 0.43 /
+//!         0.58, sphere 500k 0.86 / 0.80 / 0.79, 2M 0.79 / 0.61 / 0.60; the ratio moves that
+//!         much between runs, fast marching's time too). The bench times a first call in a
+//!         fresh process: at 500k its fixed costs (the engine's baseline code in loops run
+//!         once, memory growth) weigh most.
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
 //!         a normal per face, the heap, the focal patches: at most a quarter of the faces
 //!         again), its worst case refused up front above 1 GiB (about 7M triangles): each
@@ -453,11 +454,7 @@ impl<'a> Solver<'a> {
                 let ux_len = ux.norm();
                 let direct = du + ux_len;
                 if c > FOLD_COSINE {
-                    let xb = if same {
-                        pos[x]
-                    } else {
-                        pu + r.unapply(ux)
-                    };
+                    let xb = if same { pos[x] } else { pu + r.unapply(ux) };
                     let w_len = (xb - foot(&xb, &su.p, &su.q, su.extend, self.reach)).norm();
                     let lower = su.sigma + w_len;
                     let slack = BOUND_SLACK * (su.sigma.abs() + w_len + ux_len);
