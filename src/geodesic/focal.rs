@@ -113,25 +113,41 @@ pub(super) fn refine_focal(
             }
         }
     }
-    let mut patch: Vec<u32> = reached
-        .iter()
-        .flat_map(|&v| surface.faces_of(v).iter().copied())
-        .filter(|&f| {
-            mesh.triangles()[f as usize]
-                .iter()
-                .all(|&w| ring[w as usize] != u8::MAX)
-        })
-        .collect();
-    patch.sort_unstable();
-    patch.dedup();
+    // Every vertex left with a ring was reached (the others were reset), so a face is in the
+    // patch when all its corners have a ring: a test in O(1).
+    let in_patch = |f: usize| {
+        mesh.triangles()[f]
+            .iter()
+            .all(|&w| ring[w as usize] != u8::MAX)
+    };
+    // Ascending without a sort: marked in a bit set over the faces, then read in order.
+    let mut marked = vec![0u64; mesh.triangle_count().div_ceil(64)];
+    for &v in &reached {
+        for &f in surface.faces_of(v) {
+            if in_patch(f as usize) {
+                marked[f as usize / 64] |= 1 << (f % 64);
+            }
+        }
+    }
+    let mut patch: Vec<u32> = Vec::with_capacity(faces_seen / 3 + 1);
+    for (w, &bits) in marked.iter().enumerate() {
+        let mut bits = bits;
+        while bits != 0 {
+            patch.push((64 * w) as u32 + bits.trailing_zeros());
+            bits &= bits - 1;
+        }
+    }
     if patch.is_empty() || 4 * patch.len() > budget {
         return Ok(0);
     }
     let levels = 1;
     // Step III.
-    let in_patch = |f: usize| patch.binary_search(&(f as u32)).is_ok();
-    let refined = subdivide(surface, &patch, levels);
-    let mesh2 = TriMesh::new(refined.positions, refined.triangles).map_err(|e| {
+    let mut refined = subdivide(surface, &patch, levels);
+    let (positions, triangles) = (
+        std::mem::take(&mut refined.positions),
+        std::mem::take(&mut refined.triangles),
+    );
+    let mesh2 = TriMesh::new(positions, triangles).map_err(|e| {
         GeodesicError::LimitExceeded(format!("the focal patch could not be built: {e}"))
     })?;
     let adjacency2 = FaceAdjacency::new(&mesh2);
@@ -160,15 +176,12 @@ pub(super) fn refine_focal(
             }
             let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
             // Only reached ends carry a source (an unreached one holds a placeholder).
-            let sources: Vec<Virtual> = [a, b]
-                .iter()
-                .filter(|&&u| s.dist[u].is_finite())
-                .filter_map(|&u| s.moved(u, f))
-                .collect();
-            for &r in &refined.edge_points[i][k] {
+            let sources = [a, b].map(|u| s.dist[u].is_finite().then(|| s.moved(u, f)).flatten());
+            for &r in refined.edge_points(i, k) {
                 let x = pos2[r as usize];
                 let best = sources
                     .iter()
+                    .flatten()
                     .map(|src| {
                         (
                             src.sigma + (x - foot(&x, &src.p, &src.q, src.extend, s.reach)).norm(),
@@ -190,6 +203,7 @@ pub(super) fn refine_focal(
         }
     }
     s2.run(None);
+    s2.free_queue();
     let used = 4 * patch.len();
     let used = used
         + refine_focal(
@@ -259,9 +273,20 @@ struct Subdivision {
     first_child: Vec<u32>,
     /// Per patch face: the new ids of its corners.
     corner: Vec<[u32; 3]>,
-    /// Per patch face and edge slot k (corner k → k + 1): the new ids of the points inside
-    /// the edge.
-    edge_points: Vec<[Vec<u32>; 3]>,
+    /// Per patch face and edge slot k (corner k → k + 1): the new ids of the `m − 1` points
+    /// inside the edge, in one table ([`Subdivision::edge_points`] reads it).
+    edge_points: Vec<u32>,
+    /// Parts an edge is cut into.
+    m: usize,
+}
+
+impl Subdivision {
+    /// The new ids of the points inside edge slot `k` of patch face `i`.
+    fn edge_points(&self, i: usize, k: usize) -> &[u32] {
+        let n = self.m - 1;
+        let at = (3 * i + k) * n;
+        &self.edge_points[at..at + n]
+    }
 }
 
 /// Linear subdivision of `patch` (ascending face ids) into `m = 2^levels` parts an edge; the
@@ -270,15 +295,24 @@ fn subdivide(surface: &Surface, patch: &[u32], levels: u32) -> Subdivision {
     let mesh = surface.mesh;
     let pos = mesh.positions();
     let m = 1usize << levels;
+    let n = patch.len();
+    // Sized up front, so nothing is copied as it grows: at most 3 corners, 3 (m − 1) edge
+    // points and (m − 1)(m − 2) / 2 inner points a face (the part not used is never written).
+    // A patch of a surface has about half a vertex and one and a half edges a face, a few
+    // more along its rim.
+    let most = n * (m + 1) * (m + 2) / 2;
     let mut out = Subdivision {
-        positions: Vec::new(),
-        triangles: Vec::with_capacity(patch.len() * m * m),
-        first_child: Vec::with_capacity(patch.len()),
-        corner: Vec::with_capacity(patch.len()),
-        edge_points: Vec::with_capacity(patch.len()),
+        positions: Vec::with_capacity(most),
+        triangles: Vec::with_capacity(n * m * m),
+        first_child: Vec::with_capacity(n),
+        corner: Vec::with_capacity(n),
+        edge_points: Vec::with_capacity(3 * n * (m - 1)),
+        m,
     };
     let mut corners: HashMap<u32, u32> = HashMap::default();
+    corners.reserve(n / 2 + n / 4 + 8);
     let mut edges: HashMap<(u32, u32, usize), u32> = HashMap::default();
+    edges.reserve((2 * n + 8) * (m - 1));
     let mut id = vec![0u32; (m + 1) * (m + 1)];
     for &f in patch {
         let t = mesh.triangles()[f as usize];
@@ -292,7 +326,14 @@ fn subdivide(surface: &Surface, patch: &[u32], levels: u32) -> Subdivision {
                 (out.positions.len() - 1) as u32
             })
         };
-        let mut edge_points: [Vec<u32>; 3] = Default::default();
+        // This face's edge points: slot k's are at `base + k (m − 1)`, `fill[k]` of them so far.
+        let base = out.edge_points.len();
+        out.edge_points.resize(base + 3 * (m - 1), 0);
+        let mut fill = [0usize; 3];
+        let mut on_slot = |k: usize, v: u32, out: &mut Subdivision| {
+            out.edge_points[base + k * (m - 1) + fill[k]] = v;
+            fill[k] += 1;
+        };
         for i in 0..=m {
             for j in 0..=m - i {
                 let v = if (i, j) == (0, 0) || (i, j) == (m, 0) || (i, j) == (0, m) {
@@ -309,15 +350,15 @@ fn subdivide(surface: &Surface, patch: &[u32], levels: u32) -> Subdivision {
                     })
                 } else if j == 0 {
                     let v = on_edge(t[0], t[1], i, &mut out);
-                    edge_points[0].push(v);
+                    on_slot(0, v, &mut out);
                     v
                 } else if i + j == m {
                     let v = on_edge(t[1], t[2], j, &mut out);
-                    edge_points[1].push(v);
+                    on_slot(1, v, &mut out);
                     v
                 } else if i == 0 {
                     let v = on_edge(t[0], t[2], j, &mut out);
-                    edge_points[2].push(v);
+                    on_slot(2, v, &mut out);
                     v
                 } else {
                     let (u, w) = (i as Real / m as Real, j as Real / m as Real);
@@ -330,7 +371,6 @@ fn subdivide(surface: &Surface, patch: &[u32], levels: u32) -> Subdivision {
         let at = |i: usize, j: usize| id[i * (m + 1) + j];
         out.first_child.push(out.triangles.len() as u32);
         out.corner.push([at(0, 0), at(m, 0), at(0, m)]);
-        out.edge_points.push(edge_points);
         for i in 0..m {
             for j in 0..m - i {
                 out.triangles.push([at(i, j), at(i + 1, j), at(i, j + 1)]);
@@ -391,10 +431,10 @@ mod tests {
             v.sort_unstable();
             v
         };
-        assert_eq!(out.edge_points[0][1].len(), 3);
+        assert_eq!(out.edge_points(0, 1).len(), 3);
         assert_eq!(
-            sorted(out.edge_points[0][1].clone()),
-            sorted(out.edge_points[1][2].clone())
+            sorted(out.edge_points(0, 1).to_vec()),
+            sorted(out.edge_points(1, 2).to_vec())
         );
     }
 }

@@ -61,36 +61,48 @@ impl<'a> Surface<'a> {
                 active[f as usize] = true;
             }
         }
-        let faces: Vec<u32> = (0..nf as u32).filter(|&f| active[f as usize]).collect();
+        let faces: Vec<u32> = if subset.is_none() {
+            (0..nf as u32).collect()
+        } else {
+            (0..nf as u32).filter(|&f| active[f as usize]).collect()
+        };
+        let (pos, triangles) = (mesh.positions(), mesh.triangles());
         let nv = mesh.vertex_count();
-        let mut vertex_face_start = vec![0u32; nv + 1];
-        for &f in &faces {
-            for v in mesh.triangles()[f as usize] {
-                vertex_face_start[v as usize + 1] += 1;
+        // Faces around vertex v are counted in vertex_face_start[v + 2], so that after the
+        // prefix sum vertex_face_start[v + 1] is their start and, advanced as they are filled
+        // in, ends as their end (the start of v + 1): no second array of cursors.
+        let mut vertex_face_start = vec![0u32; nv + 2];
+        // The normals are written once, in face order (inactive faces get +z).
+        let mut face_normals = Vec::with_capacity(nf);
+        let (mut edge_sum, mut area) = (0.0, 0.0);
+        for (f, t) in triangles.iter().enumerate() {
+            if !active[f] {
+                face_normals.push(Vector3::z());
+                continue;
+            }
+            let [a, b, c] = t.map(|v| pos[v as usize]);
+            // TriMesh::scaled_normal, from the corners at hand.
+            let n = (b - a).cross(&(c - a));
+            let len = n.norm();
+            area += 0.5 * len;
+            face_normals.push(if len > 0.0 { n / len } else { Vector3::z() });
+            edge_sum += (b - a).norm() + (c - b).norm() + (a - c).norm();
+            for &v in t {
+                vertex_face_start[v as usize + 2] += 1;
             }
         }
         for v in 0..nv {
-            vertex_face_start[v + 1] += vertex_face_start[v];
+            vertex_face_start[v + 2] += vertex_face_start[v + 1];
         }
-        let mut fill = vertex_face_start.clone();
         let mut vertex_faces = vec![0u32; faces.len() * 3];
-        let mut face_normals = vec![Vector3::z(); nf];
-        let (mut edge_sum, mut area) = (0.0, 0.0);
         for &f in &faces {
-            let t = mesh.triangles()[f as usize];
-            let n = mesh.scaled_normal(f as usize);
-            let len = n.norm();
-            area += 0.5 * len;
-            if len > 0.0 {
-                face_normals[f as usize] = n / len;
-            }
-            let p = mesh.corners(f as usize);
-            edge_sum += (p[1] - p[0]).norm() + (p[2] - p[1]).norm() + (p[0] - p[2]).norm();
-            for v in t {
-                vertex_faces[fill[v as usize] as usize] = f;
-                fill[v as usize] += 1;
+            for v in triangles[f as usize] {
+                let at = &mut vertex_face_start[v as usize + 1];
+                vertex_faces[*at as usize] = f;
+                *at += 1;
             }
         }
+        vertex_face_start.pop();
         Ok(Surface {
             mesh,
             adjacency,

@@ -22,11 +22,12 @@
 //!         / mean error in mm against the analytic distance): cap R 1000 from its rim, 500k
 //!         triangles 0.033 / 0.0012, 2M 0.020 / 0.0003 (fast marching 1.8 / 0.10 and
 //!         1.0 / 0.05); sphere R 100 from a point, 500k 0.0096 / 0.0005, 2M 0.0051 / 0.00013
-//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.6–1.6× fast marching's solve on a
-//!         shared, loaded machine (two runs: cap 500k 1.33 / 1.49, 2M 0.62 / 0.76, sphere
-//!         500k 1.34 / 1.59, 2M 0.81 / 0.73; the ratio moves that much between runs). The
-//!         bench times a first call in a fresh process: at 500k its fixed costs (the engine's
-//!         baseline code in loops run once, memory growth) weigh most.
+//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.4–1.1× fast marching's solve on a
+//!         shared, loaded machine (three runs: cap 500k 0.78 / 1.06 / 1.04, 2M 0.80 / 0.43 /
+//!         0.58, sphere 500k 0.86 / 0.80 / 0.79, 2M 0.79 / 0.61 / 0.60; the ratio moves that
+//!         much between runs, fast marching's time too). The bench times a first call in a
+//!         fresh process: at 500k its fixed costs (the engine's baseline code in loops run
+//!         once, memory growth) weigh most.
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
 //!         a normal per face, the heap, the focal patches: at most a quarter of the faces
 //!         again), its worst case refused up front above 1 GiB (about 7M triangles): each
@@ -125,13 +126,37 @@ pub(super) fn foot(x: &Point3, p: &Point3, q: &Point3, extend: [bool; 2], reach:
     }
 }
 
-/// `w` rotated by the smallest rotation taking unit `n1` to unit `n2` (Rodrigues, with
-/// `k = n1 × n2`: `R w = c·w + k × w + k (k·w) / (1 + c)`, `c = n1·n2`).
-#[inline]
-pub(super) fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
-    let c = n1.dot(n2);
-    let k = n1.cross(n2);
-    w * c + k.cross(&w) + k * (k.dot(&w) / (1.0 + c))
+/// The smallest rotation taking unit `n1` to unit `n2` (Rodrigues, with `k = n1 × n2`:
+/// `R w = c·w + k × w + k (k·w) / (1 + c)`, `c = n1·n2`), kept to turn several vectors
+/// between the same two faces.
+#[derive(Clone, Copy)]
+struct Rotation {
+    c: Real,
+    k: Vector3,
+}
+
+impl Rotation {
+    #[inline(always)]
+    fn new(n1: &Vector3, n2: &Vector3) -> Self {
+        Rotation {
+            c: n1.dot(n2),
+            k: n1.cross(n2),
+        }
+    }
+
+    #[inline(always)]
+    fn apply(&self, w: Vector3) -> Vector3 {
+        let k = &self.k;
+        w * self.c + k.cross(&w) + k * (k.dot(&w) / (1.0 + self.c))
+    }
+
+    /// The inverse rotation applied to `w`: the rotation from `n2` to `n1` (its axis is
+    /// `−k`; negating is exact, so this equals `Rotation::new(n2, n1).apply(w)` to the bit).
+    #[inline(always)]
+    fn unapply(&self, w: Vector3) -> Vector3 {
+        let k = &self.k;
+        w * self.c - k.cross(&w) + k * (k.dot(&w) / (1.0 + self.c))
+    }
 }
 
 /// A 4-ary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
@@ -281,6 +306,15 @@ impl<'a> Solver<'a> {
         }
     }
 
+    /// Frees the queue and the per-vertex flags once [`Self::run`] has settled every vertex
+    /// (nothing is offered after that), so the focal refinement allocates into their memory
+    /// rather than growing the heap (first touches of new memory are slow in WebAssembly).
+    pub(super) fn free_queue(&mut self) {
+        self.heap = Queue::new(0);
+        self.settled = Vec::new();
+        self.bend = Vec::new();
+    }
+
     /// Settles up to `count` vertices, nearest first; `false` when the queue ran empty.
     #[inline(never)]
     fn settle_next(&mut self, count: usize) -> bool {
@@ -308,25 +342,28 @@ impl<'a> Solver<'a> {
             return Some(s);
         }
         let normals = &self.surface.face_normals;
-        let (n1, n2) = (&normals[s.face as usize], &normals[t]);
-        if n1.dot(n2) <= FOLD_COSINE {
-            return None;
-        }
+        let r = Rotation::new(&normals[s.face as usize], &normals[t]);
+        (r.c > FOLD_COSINE).then(|| self.turned(&s, u, t, &r))
+    }
+
+    /// Source `s` of `u` turned about `u` by `r` into the plane of face `t`.
+    #[inline(always)]
+    fn turned(&self, s: &Virtual, u: usize, t: usize, r: &Rotation) -> Virtual {
         let pu = self.surface.mesh.positions()[u];
-        let p = pu + rotate(s.p - pu, n1, n2);
+        let p = pu + r.apply(s.p - pu);
         // A point source (p = q) is turned once.
         let q = if s.q == s.p {
             p
         } else {
-            pu + rotate(s.q - pu, n1, n2)
+            pu + r.apply(s.q - pu)
         };
-        Some(Virtual {
+        Virtual {
             p,
             q,
             sigma: s.sigma,
             face: t as u32,
             extend: s.extend,
-        })
+        }
     }
 
     /// Distance offered to `x` by source `s` (in the plane of face `t`) when the straight
@@ -387,8 +424,15 @@ impl<'a> Solver<'a> {
         for &t in surface.faces_of(u) {
             let t = t as usize;
             let tri = mesh.triangles()[t];
-            let k = tri.iter().position(|&x| x as usize == u).unwrap_or(0);
-            let (p, q) = (tri[(k + 1) % 3] as usize, tri[(k + 2) % 3] as usize);
+            // The corners after u, in order (u is a corner of t).
+            let (p, q) = if tri[0] as usize == u {
+                (tri[1], tri[2])
+            } else if tri[1] as usize == u {
+                (tri[2], tri[0])
+            } else {
+                (tri[0], tri[1])
+            };
+            let (p, q) = (p as usize, q as usize);
             if self.settled[p] && self.settled[q] {
                 continue;
             }
@@ -396,10 +440,11 @@ impl<'a> Solver<'a> {
             // Offers are checked first with x turned back about u into the plane of u's
             // source (the inverse of moving the source, one rotation instead of two for a
             // segment); most cannot improve x and need no more.
+            // The rotation from the plane of u's source into t's, shared by both neighbours.
             let normals = &surface.face_normals;
-            let (n1, n2) = (&normals[su.face as usize], &normals[t]);
             let same = su.face as usize == t;
-            let c = if same { 1.0 } else { n1.dot(n2) };
+            let r = Rotation::new(&normals[su.face as usize], &normals[t]);
+            let c = if same { 1.0 } else { r.c };
             let mut from_u = None;
             for (x, y) in [(p, q), (q, p)] {
                 if self.settled[x] {
@@ -409,11 +454,7 @@ impl<'a> Solver<'a> {
                 let ux_len = ux.norm();
                 let direct = du + ux_len;
                 if c > FOLD_COSINE {
-                    let xb = if same {
-                        pos[x]
-                    } else {
-                        pu + rotate(ux, n2, n1)
-                    };
+                    let xb = if same { pos[x] } else { pu + r.unapply(ux) };
                     let w_len = (xb - foot(&xb, &su.p, &su.q, su.extend, self.reach)).norm();
                     let lower = su.sigma + w_len;
                     let slack = BOUND_SLACK * (su.sigma.abs() + w_len + ux_len);
@@ -426,7 +467,14 @@ impl<'a> Solver<'a> {
                         continue;
                     }
                 }
-                let from_u = *from_u.get_or_insert_with(|| self.moved(u, t));
+                // self.moved(u, t), with the rotation at hand.
+                let from_u = *from_u.get_or_insert_with(|| {
+                    if same {
+                        Some(su)
+                    } else {
+                        (c > FOLD_COSINE).then(|| self.turned(&su, u, t, &r))
+                    }
+                });
                 let mut best = from_u.and_then(|s| Some((self.offer(&s, t, x, u, y)?, s)));
                 // A settled y offered its own source to x across the same edge when it was
                 // settled; it matters again only as the alternative to a bend at u.
@@ -533,6 +581,7 @@ pub(crate) fn propagate(
         ));
     }
     s.run(Some(&mut *progress));
+    s.free_queue();
     focal::refine_focal(
         &mut s,
         focal::budget(surface.faces.len()),
@@ -546,6 +595,23 @@ pub(crate) fn propagate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
+        Rotation::new(n1, n2).apply(w)
+    }
+
+    #[test]
+    fn the_inverse_rotation_is_the_rotation_back_to_the_bit() {
+        let n1 = Vector3::new(0.1, -0.3, 0.7).normalize();
+        let n2 = Vector3::new(0.4, 0.2, 0.9).normalize();
+        for w in [
+            Vector3::new(0.3, -1.2, 0.05),
+            Vector3::new(-7.0, 0.001, 3.3),
+        ] {
+            let back = rotate(w, &n2, &n1);
+            assert_eq!(Rotation::new(&n1, &n2).unapply(w), back);
+        }
+    }
 
     #[test]
     fn rotation_takes_one_normal_to_the_other_and_keeps_lengths() {
