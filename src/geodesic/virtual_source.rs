@@ -22,10 +22,11 @@
 //!         / mean error in mm against the analytic distance): cap R 1000 from its rim, 500k
 //!         triangles 0.033 / 0.0012, 2M 0.020 / 0.0003 (fast marching 1.8 / 0.10 and
 //!         1.0 / 0.05); sphere R 100 from a point, 500k 0.0096 / 0.0005, 2M 0.0051 / 0.00013
-//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.4–1.1× fast marching's solve on a
-//!         shared, loaded machine (three runs: cap 500k 0.78 / 1.06 / 1.04, 2M 0.80 / 0.43 /
-//!         0.58, sphere 500k 0.86 / 0.80 / 0.79, 2M 0.79 / 0.61 / 0.60; the ratio moves that
-//!         much between runs, fast marching's time too). The bench times a first call in a
+//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.85× fast marching's solve on the
+//!         500k cap, 0.70× at 2M, 0.78× / 0.68× on the sphere (one run on a quiet machine);
+//!         0.4–1.1× on a shared, loaded one (three runs: cap 500k 0.78 / 1.06 / 1.04, 2M
+//!         0.80 / 0.43 / 0.58, sphere 500k 0.86 / 0.80 / 0.79, 2M 0.79 / 0.61 / 0.60; the
+//!         ratio moves that much between runs, fast marching's time too). The bench times a first call in a
 //!         fresh process: at 500k its fixed costs (the engine's baseline code in loops run
 //!         once, memory growth) weigh most.
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
