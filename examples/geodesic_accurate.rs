@@ -2,6 +2,9 @@
 //! distance: `cargo run --release --example geodesic_accurate -- cap|sphere TRIANGLES
 //! [methods…]`. Cap: R 1000, half-angle 1 rad, boundary source, distance R·(θ0 − θ).
 //! Sphere: R 100 cube sphere, point source at (0, 0, −R), great-circle distance.
+//! Environment: `F32=1` rounds positions to f32 as read from an STL (the bench's input);
+//! `HASH=1` prints a hash of each method's distances (their bits), to check that a change
+//! keeps results bit-identical; `BINS=n`, `WORST=n` break the errors down.
 
 use skinpath::geodesic::{geodesic_distance, DistanceParams, GeodesicSource, Method};
 use skinpath::math::Real;
@@ -40,7 +43,6 @@ fn main() {
         src = GeodesicSource::Boundary { loop_index: None };
         exact = Box::new(move |i| 1000.0 * (1.0 - libm::acos((p[i].z / 1000.0).clamp(-1.0, 1.0))));
     }
-    // F32=1: positions rounded to f32, as read from a binary STL (the bench's input).
     if std::env::var("F32").is_ok() {
         let p = s
             .mesh
@@ -120,6 +122,16 @@ fn main() {
                     s.mesh.positions()[i]
                 );
             }
+        }
+        if std::env::var_os("HASH").is_some() {
+            // FNV-1a over the bits of every distance.
+            let hash = d.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, d| {
+                d.to_bits()
+                    .to_le_bytes()
+                    .iter()
+                    .fold(h, |h, &b| (h ^ b as u64).wrapping_mul(0x100_0000_01b3))
+            });
+            println!("  hash {hash:016x} of {} distances", d.len());
         }
         println!(
             "{m}: {dt:.3} s, max error {max:.5}, mean {:.5}, windows {} ({:.2} per edge)",

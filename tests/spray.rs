@@ -114,18 +114,29 @@ fn one_straight_pass_matches_the_closed_form() {
     assert!(checked > 50, "only {checked} samples checked");
 }
 
-/// A straight pass under one axis is integrated along its chord without looking up poses;
-/// the same pass with its axes tilted by 1e-7 rad at every other pose takes the general
-/// route (poses interpolated move by move). Both must give the same coating, moves of two
-/// speeds included.
-#[test]
-fn a_straight_pass_deposits_as_the_general_route_does() {
+/// One straight pass over an 800 × 200 plate, its moves cut to R/3, every `every`-th move at
+/// v and the others at 1.5·v; its samples' grid and the spray model.
+fn one_pass_at_two_speeds(
+    every: usize,
+) -> (
+    SprayParams,
+    SprayPlan,
+    skinpath::toolpath::ToolPath,
+    PointGrid,
+    SprayModel,
+) {
     let m = plate(800.0, 200.0, 8, 2);
     let p = params(200.0);
     let base = plan(&m, &p).unwrap();
     let mut path = split_long_moves(&base.path, R / 3.0);
     path.speeds = (0..path.poses.len())
-        .map(|k| if k % 3 == 0 { p.speed } else { 1.5 * p.speed })
+        .map(|k| {
+            if k % every == 0 {
+                p.speed
+            } else {
+                1.5 * p.speed
+            }
+        })
         .collect();
     let grid = PointGrid::new(&base.samples.positions, 0.5 * R);
     let model = SprayModel {
@@ -133,6 +144,16 @@ fn a_straight_pass_deposits_as_the_general_route_does() {
         peak_rate: peak_rate(&p),
         standoff: H,
     };
+    (p, base, path, grid, model)
+}
+
+/// A straight pass under one axis is integrated along its chord without looking up poses;
+/// the same pass with its axes tilted by 1e-7 rad at every other pose takes the general
+/// route (poses interpolated move by move). Both must give the same coating, moves of two
+/// speeds included.
+#[test]
+fn a_straight_pass_deposits_as_the_general_route_does() {
+    let (p, base, path, grid, model) = one_pass_at_two_speeds(3);
     let coat = |path: &skinpath::toolpath::ToolPath| {
         deposit(
             path,
@@ -168,19 +189,7 @@ fn a_straight_pass_deposits_as_the_general_route_does() {
 /// closed-form integral of the planar rate over it, divided by its speed.
 #[test]
 fn a_pass_whose_speed_changes_move_by_move_matches_the_closed_form() {
-    let m = plate(800.0, 200.0, 8, 2);
-    let p = params(200.0);
-    let base = plan(&m, &p).unwrap();
-    let mut path = split_long_moves(&base.path, R / 3.0);
-    path.speeds = (0..path.poses.len())
-        .map(|k| if k % 2 == 0 { p.speed } else { 1.5 * p.speed })
-        .collect();
-    let grid = PointGrid::new(&base.samples.positions, 0.5 * R);
-    let model = SprayModel {
-        radius: R,
-        peak_rate: peak_rate(&p),
-        standoff: H,
-    };
+    let (p, base, path, grid, model) = one_pass_at_two_speeds(2);
     let t = deposit(
         &path,
         &base.samples,

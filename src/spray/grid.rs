@@ -107,37 +107,14 @@ impl PointGrid {
 
     /// Whether `found(id)` holds for some point in a cell overlapping the box `[lo, hi]`;
     /// stops at the first.
-    pub fn any_in_box(
-        &self,
-        lo: &Vector3,
-        hi: &Vector3,
-        mut found: impl FnMut(usize) -> bool,
-    ) -> bool {
-        for a in 0..3 {
-            if hi[a] < self.origin[a] || lo[a] > self.origin[a] + self.cell * self.dims[a] as Real {
-                return false;
-            }
-        }
-        let l = [0, 1, 2].map(|a| self.coord(lo[a], a));
-        let h = [0, 1, 2].map(|a| self.coord(hi[a], a));
-        for k in l[2]..=h[2] {
-            for j in l[1]..=h[1] {
-                let row = (k * self.dims[1] + j) * self.dims[0];
-                let (s, e) = (
-                    self.start[row + l[0]] as usize,
-                    self.start[row + h[0] + 1] as usize,
-                );
-                let hit = if self.in_order {
-                    (s..e).any(&mut found)
-                } else {
-                    self.ids[s..e].iter().any(|&id| found(id as usize))
-                };
-                if hit {
-                    return true;
-                }
-            }
-        }
-        false
+    pub fn any_in_box(&self, lo: &Vector3, hi: &Vector3, found: impl FnMut(usize) -> bool) -> bool {
+        self.any_in_box_near(lo, hi, |_, _| true, found)
+    }
+
+    /// Calls `visit(id)` for every point in a cell overlapping the box `[lo, hi]` (a superset
+    /// of the points inside the box).
+    pub fn for_each_in_box(&self, lo: &Vector3, hi: &Vector3, visit: impl FnMut(usize)) {
+        self.for_each_in_box_near(lo, hi, |_, _| true, visit);
     }
 
     /// [`PointGrid::for_each_in_box`], skipping at both ends of each row of cells the cells
@@ -148,12 +125,27 @@ impl PointGrid {
         &self,
         lo: &Vector3,
         hi: &Vector3,
-        mut near: impl FnMut(&Point3, Real) -> bool,
+        near: impl FnMut(&Point3, Real) -> bool,
         mut visit: impl FnMut(usize),
     ) {
+        self.any_in_box_near(lo, hi, near, |id| {
+            visit(id);
+            false
+        });
+    }
+
+    /// [`PointGrid::any_in_box`] over the rows trimmed as in
+    /// [`PointGrid::for_each_in_box_near`].
+    fn any_in_box_near(
+        &self,
+        lo: &Vector3,
+        hi: &Vector3,
+        mut near: impl FnMut(&Point3, Real) -> bool,
+        mut found: impl FnMut(usize) -> bool,
+    ) -> bool {
         for a in 0..3 {
             if hi[a] < self.origin[a] || lo[a] > self.origin[a] + self.cell * self.dims[a] as Real {
-                return;
+                return false;
             }
         }
         let l = [0, 1, 2].map(|a| self.coord(lo[a], a));
@@ -181,28 +173,37 @@ impl PointGrid {
                     self.start[row + first] as usize,
                     self.start[row + last + 1] as usize,
                 );
-                if self.in_order {
-                    (s..e).for_each(&mut visit);
+                let hit = if self.in_order {
+                    (s..e).any(&mut found)
                 } else {
-                    self.ids[s..e].iter().for_each(|&id| visit(id as usize));
+                    self.ids[s..e].iter().any(|&id| found(id as usize))
+                };
+                if hit {
+                    return true;
                 }
             }
         }
-    }
-
-    /// Calls `visit(id)` for every point in a cell overlapping the box `[lo, hi]` (a superset
-    /// of the points inside the box).
-    pub fn for_each_in_box(&self, lo: &Vector3, hi: &Vector3, mut visit: impl FnMut(usize)) {
-        self.any_in_box(lo, hi, |id| {
-            visit(id);
-            false
-        });
+        false
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `n` points scattered over the box `[0, size]` (a fixed sequence).
+    fn cloud(n: usize, size: [Real; 3]) -> Vec<Point3> {
+        (0..n)
+            .map(|i| {
+                let t = i as Real;
+                Point3::new(
+                    (t * 0.618).fract() * size[0],
+                    (t * 0.414).fract() * size[1],
+                    (t * 0.732).fract() * size[2],
+                )
+            })
+            .collect()
+    }
 
     /// The points of a box query, sorted.
     fn query(grid: &PointGrid, lo: [Real; 3], hi: [Real; 3]) -> Vec<usize> {
@@ -216,16 +217,7 @@ mod tests {
     /// visits fewer than the whole box.
     #[test]
     fn rows_trimmed_by_a_cell_test_keep_every_point_it_is_for() {
-        let points: Vec<Point3> = (0..4000)
-            .map(|i| {
-                let t = i as Real;
-                Point3::new(
-                    (t * 0.618).fract() * 10.0,
-                    (t * 0.414).fract() * 10.0,
-                    (t * 0.732).fract() * 2.0,
-                )
-            })
-            .collect();
+        let points = cloud(4000, [10.0, 10.0, 2.0]);
         let first = PointGrid::new(&points, 0.7);
         let moved: Vec<Point3> = first.order().iter().map(|&i| points[i as usize]).collect();
         let grid = first.reordered();
@@ -260,17 +252,8 @@ mod tests {
 
     #[test]
     fn a_reordered_grid_is_the_grid_of_the_reordered_points() {
-        // A scattered cloud (a fixed sequence), several points per cell.
-        let points: Vec<Point3> = (0..500)
-            .map(|i| {
-                let t = i as Real;
-                Point3::new(
-                    (t * 0.618).fract() * 10.0,
-                    (t * 0.414).fract() * 7.0,
-                    (t * 0.732).fract(),
-                )
-            })
-            .collect();
+        // Several points per cell.
+        let points = cloud(500, [10.0, 7.0, 1.0]);
         let grid = PointGrid::new(&points, 1.3);
         let order = grid.order().to_vec();
         let moved: Vec<Point3> = order.iter().map(|&i| points[i as usize]).collect();
