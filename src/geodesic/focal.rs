@@ -6,17 +6,22 @@
 //!         antipode of a point on a sphere): a vertex there is offered its neighbours'
 //!         sources, whose rays miss it by an angle that does not shrink with the edges; the
 //!         error is first order at the focus and falls off slowly around it (measured on the
-//!         cap: about h²/ρ at distance ρ from the focus, h the edge). Linear subdivision
-//!         keeps the polyhedron, so the propagation rerun on a subdivided patch around the
-//!         focus converges to the same distance with shorter edges.
+//!         cap: about h²/ρ at distance ρ from the focus, h the edge). Away from the focus
+//!         `fronts.rs` interpolates between the neighbours' sources, which removes most of
+//!         that error from a few rings out; at the focus itself the sources' rays miss by
+//!         too wide an angle for that. Linear subdivision keeps the polyhedron, so the
+//!         propagation rerun on a subdivided patch around the focus converges to the same
+//!         distance with shorter edges.
 //! Input:  a settled [`Solver`] (distance and virtual source per vertex).
-//! Output: the same distances, lowered inside each refined patch to the patch's answer.
+//! Output: the same distances, lowered around the foci by front interpolation and inside
+//!         each refined patch to the patch's answer.
 //! Steps:  I. a local maximum of the distance is focal when the ray directions of its neighbours (foot of the
 //!            virtual source → vertex, in its tangent plane) wind once around it and point
 //!            inwards: a sink of the direction field lies in its star (a shock between two
-//!            fronts has two directions only and does not wind);
+//!            fronts has two directions only and does not wind); the distances around them
+//!            are lowered by front interpolation (`fronts.rs`, see [`interpolate_fronts`]);
 //!         II. a patch is the faces within [`RINGS`] vertex rings of the focal vertices
-//!            (fewer if the budget asks), halved at each nested level;
+//!            (fewer if the budget asks), at each nested level;
 //!         III. its faces are cut into four,
 //!             the vertices on its outer edges are seeded with the sources of the settled
 //!             vertices there (moved into the patch's faces), and the propagation is rerun
@@ -24,9 +29,11 @@
 //!             unfolded paths, so the smaller is the better one).
 //!         IV. the same again inside the patch, [`MAX_DEPTH`] levels at most.
 //! Cost:   step I tests the stars of the local maxima of the distance only (the propagation
-//!         lists them: vertices settled after all their neighbours); steps II–IV at most
-//!         `budget` subdivided faces in all.
+//!         lists them: vertices settled after all their neighbours) and interpolates fronts
+//!         at a quarter of the vertices at most; steps II–IV at most `budget` subdivided
+//!         faces in all.
 
+use super::fronts;
 use super::params::GeodesicError;
 use super::surface::Surface;
 use super::virtual_source::{foot, Solver, Virtual};
@@ -35,13 +42,22 @@ use crate::mesh::{FaceAdjacency, TriMesh};
 use rustc_hash::FxHashMap as HashMap;
 use std::collections::VecDeque;
 
-/// Vertex rings around a focal vertex that are subdivided at the first level (no paper: the
-/// coarse error at ring k is about h/k, 0.03 mm at 42 rings of the 500k cap, 0.26 mm at its
-/// pole; each nested level halves the edges and the rings, which keeps the error at its
-/// outer edge).
-pub(super) const RINGS: u8 = 42;
-/// Rings of the innermost patches at least.
-const MIN_RINGS: u8 = 4;
+/// Vertex rings around a focal vertex that are subdivided, at each level (no paper: front
+/// interpolation brings the error to the order of the unfolding's own from about 6 rings
+/// out and stops [`PATCH_MARGIN`] rings short of a patch's edge, so each level has to
+/// reach over 2 × (6 + 8) of its own rings, twice its parent's: 16 parent rings reach 32).
+pub(super) const RINGS: u8 = 16;
+/// Rings short of a patch's edge where front interpolation stops.
+const PATCH_MARGIN: u32 = 8;
+/// Front interpolation on the whole surface stops at the first ring of vertices around the
+/// foci where no distance was lowered by this fraction of the mean edge or more, or fewer
+/// than [`MIN_LOWERED`] of the ring's distances were lowered (where fronts converge nearly
+/// every distance is; where the samples' own error is all that is left, about half)...
+const GAIN_STOP: Real = 1e-3;
+/// See [`GAIN_STOP`].
+const MIN_LOWERED: f64 = 0.75;
+/// ...or when it has processed this share of the vertices.
+const FRONT_SHARE: f64 = 0.25;
 /// Nested refinements at most (edges up to 2^depth times shorter at the focus).
 pub(super) const MAX_DEPTH: u32 = 3;
 
@@ -62,6 +78,7 @@ pub(super) fn refine_focal(
     budget: usize,
     depth: u32,
     rings: u8,
+    extent: Option<u32>,
 ) -> Result<usize, GeodesicError> {
     let surface = s.surface;
     let mesh = surface.mesh;
@@ -78,6 +95,9 @@ pub(super) fn refine_focal(
     if focal.is_empty() || depth == 0 {
         return Ok(0);
     }
+    // Front interpolation around the foci, before the patches are cut (a patch is seeded
+    // from the sources, which it leaves as they were).
+    interpolate_fronts(s, &focal, extent, rings as u32);
     // Step II: vertex rings by breadth-first search (each vertex enters the queue once).
     let mut ring = vec![u8::MAX; mesh.vertex_count()];
     let mut queue = VecDeque::new();
@@ -210,7 +230,10 @@ pub(super) fn refine_focal(
             &mut s2,
             budget - used,
             depth - 1,
-            (rings / 2).max(MIN_RINGS),
+            rings,
+            // The patch reaches `rings` coarse rings from its focal vertices: twice as many
+            // of its own.
+            Some(2 * rings as u32),
         )?;
     for (i, &f) in patch.iter().enumerate() {
         for (k, &v) in mesh.triangles()[f as usize].iter().enumerate() {
@@ -222,6 +245,50 @@ pub(super) fn refine_focal(
         }
     }
     Ok(used)
+}
+
+/// Lowers the distances around `focal` by [`fronts::lower`], ring by ring of vertices
+/// outwards: on a patch reaching `extent` rings, up to [`PATCH_MARGIN`] rings short of its
+/// edge (where its vertices see one side only); on the whole surface while a ring beyond
+/// the first patch's `rings` still lowers distances (see [`GAIN_STOP`]), [`FRONT_SHARE`] of
+/// the vertices at most. Each vertex is processed once, so this ends.
+fn interpolate_fronts(s: &mut Solver, focal: &[u32], extent: Option<u32>, rings: u32) {
+    let surface = s.surface;
+    let mesh = surface.mesh;
+    let nv = mesh.vertex_count();
+    let (last, most) = match extent {
+        Some(e) => (e.saturating_sub(PATCH_MARGIN), nv),
+        None => (u32::MAX, (nv as f64 * FRONT_SHARE) as usize),
+    };
+    let mut scratch = fronts::Scratch::new(nv);
+    let mut seen = vec![false; nv];
+    let mut ring: Vec<u32> = focal.to_vec();
+    for &v in focal {
+        seen[v as usize] = true;
+    }
+    let (mut k, mut done) = (0u32, 0usize);
+    while !ring.is_empty() && k < last && done < most {
+        let (gain, lowered) = fronts::lower(s, &ring, &mut scratch);
+        done += ring.len();
+        let settled = gain < GAIN_STOP * surface.mean_edge
+            || (lowered as f64) < MIN_LOWERED * ring.len() as f64;
+        if extent.is_none() && k >= rings && settled {
+            break;
+        }
+        let mut next = Vec::with_capacity(ring.len() + 8);
+        for &v in &ring {
+            for &f in surface.faces_of(v as usize) {
+                for w in mesh.triangles()[f as usize] {
+                    if !seen[w as usize] {
+                        seen[w as usize] = true;
+                        next.push(w);
+                    }
+                }
+            }
+        }
+        ring = next;
+        k += 1;
+    }
 }
 
 /// Whether the ray directions of the neighbours of interior vertex `v` wind once around it

@@ -8,6 +8,7 @@
 mod exact;
 mod field;
 mod focal;
+mod fronts;
 mod iso_lines;
 mod params;
 mod source;

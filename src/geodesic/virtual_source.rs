@@ -15,24 +15,25 @@
 //!         on doubly curved ones the error is second order in the edge length away from focal
 //!         points. Near them (where fronts from a continuum of directions meet: the pole of a
 //!         cap measured from its rim, the antipode of a point source on a sphere) a vertex is
-//!         offered only its neighbours' sources, whose rays miss it: first order there, so
-//!         `focal.rs` reruns the propagation on nested subdivided patches around such points.
-//!         The tests check the orders and the focal error. Measured (`npm run bench --
-//!         geodesic`: WebAssembly in Node beside native fast marching, potpourri3d 1.4.0; max
-//!         / mean error in mm against the analytic distance): cap R 1000 from its rim, 500k
-//!         triangles 0.033 / 0.0012, 2M 0.020 / 0.0003 (fast marching 1.8 / 0.10 and
-//!         1.0 / 0.05); sphere R 100 from a point, 500k 0.0096 / 0.0005, 2M 0.0051 / 0.00013
-//!         (fast marching 3.0 / 1.3 and 2.9 / 1.2); time 0.85× fast marching's solve on the
-//!         500k cap, 0.70× at 2M, 0.78× / 0.68× on the sphere (one run on a quiet machine);
-//!         0.4–1.1× on a shared, loaded one (three runs: cap 500k 0.78 / 1.06 / 1.04, 2M
-//!         0.80 / 0.43 / 0.58, sphere 500k 0.86 / 0.80 / 0.79, 2M 0.79 / 0.61 / 0.60; the
-//!         ratio moves that much between runs, fast marching's time too). The bench times a first call in a
-//!         fresh process: at 500k its fixed costs (the engine's baseline code in loops run
-//!         once, memory growth) weigh most.
+//!         offered only its neighbours' sources, whose rays miss it: first order there.
+//!         Around them `fronts.rs` interpolates between the sources the neighbours hold, and
+//!         `focal.rs` reruns the propagation on nested subdivided patches at the focus
+//!         itself. The tests check the orders and the focal error. Measured (`npm run
+//!         bench -- geodesic`: WebAssembly in Node beside native fast marching, potpourri3d
+//!         1.4.0; max / mean error in mm against the analytic distance): cap R 1000 from its
+//!         rim, 500k triangles 0.0091 / 0.0009, 2M 0.0034 / 0.0002 (fast marching 1.8 / 0.10
+//!         and 1.0 / 0.05); sphere R 100 from a point, 500k 0.0071 / 0.0005, 2M 0.0037 /
+//!         0.00013 (fast marching 3.0 / 1.3 and 2.9 / 1.2); time, two runs on a shared
+//!         machine: cap 500k 0.87× / 1.08× fast marching's solve, 2M 0.75× / 0.75×; sphere
+//!         500k 0.94× / 0.94×, 2M 0.84× / 0.81× (fast marching itself moved by 12 % between
+//!         the runs; without front interpolation, on a quiet machine: 0.85×, 0.70×, 0.78×,
+//!         0.68×). The bench times a first call in a fresh process: at 500k its fixed costs
+//!         (the engine's baseline code in loops run once, memory growth) weigh most.
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
 //!         a normal per face, the heap, the focal patches: at most a quarter of the faces
-//!         again), its worst case refused up front above 1 GiB (about 7M triangles): each
-//!         vertex is settled once and offers each face around it twice.
+//!         again; front interpolation reuses the heap's memory), its worst case refused up
+//!         front above 1 GiB (about 7M triangles): each vertex is settled once and offers
+//!         each face around it twice.
 //! Deviations (no paper):
 //!   - A virtual source is a *segment* `[p, q]` (distance `σ + dist(x, [p, q])`): a point
 //!     when `p = q`, the straight piece of a source curve nearest to the vertex otherwise, so
@@ -63,7 +64,7 @@ const CROSSING_TOLERANCE: Real = 1e-9;
 /// Source segments searched on each side of a sample when seeding a crossed face.
 const SEED_WINDOW: usize = 4;
 /// Faces whose normals are closer to opposite than this (cosine) do not pass sources.
-const FOLD_COSINE: Real = -0.999;
+pub(super) const FOLD_COSINE: Real = -0.999;
 /// How far (in mean edge lengths) a piece of a source curve runs on beyond an end where the
 /// curve turns towards the side it serves (no paper: on that side the nearest point of the
 /// curve to a vertex beyond the end lies on the next piece, which the vertex may not be
@@ -131,14 +132,14 @@ pub(super) fn foot(x: &Point3, p: &Point3, q: &Point3, extend: [bool; 2], reach:
 /// `R w = c·w + k × w + k (k·w) / (1 + c)`, `c = n1·n2`), kept to turn several vectors
 /// between the same two faces.
 #[derive(Clone, Copy)]
-struct Rotation {
-    c: Real,
+pub(super) struct Rotation {
+    pub(super) c: Real,
     k: Vector3,
 }
 
 impl Rotation {
     #[inline(always)]
-    fn new(n1: &Vector3, n2: &Vector3) -> Self {
+    pub(super) fn new(n1: &Vector3, n2: &Vector3) -> Self {
         Rotation {
             c: n1.dot(n2),
             k: n1.cross(n2),
@@ -146,7 +147,7 @@ impl Rotation {
     }
 
     #[inline(always)]
-    fn apply(&self, w: Vector3) -> Vector3 {
+    pub(super) fn apply(&self, w: Vector3) -> Vector3 {
         let k = &self.k;
         w * self.c + k.cross(&w) + k * (k.dot(&w) / (1.0 + self.c))
     }
@@ -588,6 +589,7 @@ pub(crate) fn propagate(
         focal::budget(surface.faces.len()),
         focal::MAX_DEPTH,
         focal::RINGS,
+        None,
     )?;
     progress("distance", 1.0);
     Ok(s.dist)
