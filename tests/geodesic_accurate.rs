@@ -400,3 +400,37 @@ fn fronts_converging_on_the_cap_are_interpolated_between_the_sources_held() {
         "disk: {flat_worst}, mean {flat_mean}"
     );
 }
+
+#[test]
+fn plane_section_source_is_accurate_on_its_convex_side_too() {
+    // The cap of 100 rings (60 000 triangles, edges of 10 mm) from its section by the plane
+    // z = R cos 0.6 (through a ring of vertices): distance R·|θ − 0.6|. The section is
+    // sampled where it crosses edges and at vertices, so two pieces often lie on one
+    // straight line; rounded either way, the test of whether the curve turns towards a
+    // vertex used to stop such a piece at that joint, and on the convex side, where the
+    // fronts spread, vertices between the pieces their neighbours held were offered only
+    // the pieces' ends: 0.56 mm too far within 50 mm of the section, 0.16 mm now (what is
+    // left is the same spreading between pieces that do turn, second order in the edge:
+    // 0.043 mm at 500k triangles).
+    let s = cap(100, CAP_R, 1.0);
+    let theta0: Real = 0.6;
+    let src = GeodesicSource::Plane {
+        point: Point3::new(CAP_R * libm::sin(theta0), 0.0, CAP_R * libm::cos(theta0)),
+        normal: skinpath::math::Vector3::z(),
+    };
+    let d = distance(&s, &src, Method::Accurate).vertex_distance;
+    check_field(&s, &d);
+    let analytic = |p: &Point3| CAP_R * (libm::acos((p.z / CAP_R).clamp(-1.0, 1.0)) - theta0).abs();
+    let (mut near, mut all): (Real, Real) = (0.0, 0.0);
+    for (p, d) in s.mesh.positions().iter().zip(&d) {
+        let e = (d - analytic(p)).abs();
+        all = all.max(e);
+        if analytic(p) < 50.0 {
+            near = near.max(e);
+        }
+    }
+    eprintln!(
+        "cap 100 rings from a plane section: max error within 50 mm {near:.4}, anywhere {all:.4}"
+    );
+    assert!(near < 0.25 && all < 0.25, "{near}, anywhere {all}");
+}

@@ -24,21 +24,26 @@
 //!             segments turn by at most [`TURN`] plus 1.5 times the angle between the outer
 //!             feet seen from `x`).
 //!         III. The minimum never lowers a distance by more than the spread of the three
-//!             samples, nor below a neighbour's distance less the edge between them (the
-//!             distance is 1-Lipschitz; two fronts meeting at `x` could give such a
-//!             parabola).
+//!             samples, and no sample is shorter than the distance the propagation gave
+//!             (a shorter one is a path that does not pass through the star: a front met
+//!             across a shock), nor below a neighbour's distance less the edge between
+//!             them by more than [`NEIGHBOUR_SLACK`] of an edge (the neighbour's own excess).
+//!             Once every vertex around a focus is done, neighbours are lowered along the
+//!             edges where a lowered distance plus the edge is shorter ([`relax`]): the
+//!             distance stays 1-Lipschitz along every edge.
 //! Accuracy: not exact; the samples carry the unfolding's own second-order error (about
 //!         K·D·h²/3 for Gaussian curvature K). Measured against the analytic distance (f32
 //!         positions, largest error anywhere, before → with front interpolation and the
 //!         smaller focal patches it allows): cap R 1000 from its rim, 500k triangles
-//!         0.033 → 0.0091 mm, 2M 0.020 → 0.0034 mm; sphere R 100 from a point, 500k
-//!         0.0096 → 0.0071 mm, 2M 0.0051 → 0.0037 mm. On the 500k cap the vertices 25–300 mm
-//!         from the pole that it lowers end within 0.004 mm of the analytic distance.
+//!         0.033 → 0.0062 mm, 2M 0.020 → 0.0031 mm; sphere R 100 from a point, 500k
+//!         0.0096 → 0.0078 mm, 2M 0.0051 → 0.0043 mm.
 //! Cost:   O(1) per vertex processed (its star, and its 2-ring when the star is one-sided);
 //!         the caller bounds the vertices processed (a quarter of them at most).
 
+use super::unfolding::Entry;
 use super::virtual_source::{foot, Rotation, Solver, FOLD_COSINE};
 use crate::math::{Real, Vector3};
+use std::collections::BinaryHeap;
 
 /// Samples kept per vertex at most (a 2-ring on a mesh of bounded valence has about 19).
 const MAX_SAMPLES: usize = 48;
@@ -50,6 +55,17 @@ const MIN_GAP: Real = 0.05;
 /// Angle (sine) the segments of three samples may turn by, on top of 1.5 times the angle
 /// between their outer feet.
 const TURN: Real = 0.05;
+/// How far (in mean edges) an interpolated distance may lie below a neighbour's distance
+/// less the edge between them, when the caller allows it (away from the focus): the
+/// neighbour's own excess or the interpolation's (about 1.5e-4 of an edge on the 500k cap),
+/// far below a parabola through samples of two fronts.
+const NEIGHBOUR_SLACK: Real = 3e-4;
+/// Relative margin by which a path through a lowered neighbour must be shorter for
+/// [`relax`] to take it (far above the rounding of the sum).
+const RELAX_SLACK: Real = 1e-12;
+/// A sample more than this fraction of the mean edge below the distance the propagation gave
+/// is not used (see [`lower`]).
+const BELOW: Real = 1e-4;
 /// Largest `D'' · D` of an interpolated front (1 for a point or a straight curve, less for a
 /// converging front), with 10 % slack.
 const MAX_CURVATURE: Real = 1.1;
@@ -69,6 +85,9 @@ pub(super) struct Scratch {
     /// Per vertex: the last vertex whose samples it gave (dedups a 2-ring).
     stamp: Vec<u32>,
     lowered: Vec<(u32, Real)>,
+    /// Every vertex lowered below what a neighbour's distance allowed (where [`relax`]
+    /// starts).
+    pub(super) all: Vec<u32>,
 }
 
 impl Scratch {
@@ -76,15 +95,22 @@ impl Scratch {
         Scratch {
             stamp: vec![u32::MAX; vertices],
             lowered: Vec::new(),
+            all: Vec::new(),
         }
     }
 }
 
 /// Lowers the distances of `vertices` by interpolating their neighbours' sources; returns
-/// the largest amount a distance was lowered by and how many were lowered. The sources are
+/// the largest amount a distance was lowered by and how many were lowered. `slack`: see
+/// [`NEIGHBOUR_SLACK`]. The sources are
 /// read, never changed, and the lowered distances are written once every vertex is done,
 /// so the order of `vertices` does not matter.
-pub(super) fn lower(s: &mut Solver, vertices: &[u32], scratch: &mut Scratch) -> (Real, usize) {
+pub(super) fn lower(
+    s: &mut Solver,
+    vertices: &[u32],
+    slack: bool,
+    scratch: &mut Scratch,
+) -> (Real, usize) {
     let surface = s.surface;
     let mesh = surface.mesh;
     let pos = mesh.positions();
@@ -121,6 +147,10 @@ pub(super) fn lower(s: &mut Solver, vertices: &[u32], scratch: &mut Scratch) -> 
             dir: own.q - own.p,
         };
         let mut n = 1;
+        // The propagation gave x the shortest path its neighbours offered through its star; a
+        // sample shorter than that is a path that does not pass there (from a front met
+        // across a shock), not a sample of x's own front.
+        let floor = dx - BELOW * surface.mean_edge;
         // The source of vertex z, turned about z into the plane of x's source (one rotation:
         // z lies within two edges of x, so the planes through z and x differ by the
         // second order of that distance).
@@ -146,12 +176,9 @@ pub(super) fn lower(s: &mut Solver, vertices: &[u32], scratch: &mut Scratch) -> 
             };
             let v = foot(&px, &p, &q, sz.extend, s.reach) - px;
             let (along, lat) = (v.dot(&e1), v.dot(&e2));
-            if along > 0.0 && lat.abs() <= MAX_SLOPE * along && *n < MAX_SAMPLES {
-                smp[*n] = Sample {
-                    lat,
-                    d: sz.sigma + v.norm(),
-                    dir: q - p,
-                };
+            let d = sz.sigma + v.norm();
+            if along > 0.0 && lat.abs() <= MAX_SLOPE * along && d >= floor && *n < MAX_SAMPLES {
+                smp[*n] = Sample { lat, d, dir: q - p };
                 *n += 1;
             }
         };
@@ -218,16 +245,34 @@ pub(super) fn lower(s: &mut Solver, vertices: &[u32], scratch: &mut Scratch) -> 
             && m.d - d <= a.d.max(b.d) - m.d
             && at > a.lat
             && at < b.lat;
-        // Step III: never below what a neighbour's distance allows (1-Lipschitz along the
-        // edge), which a parabola through samples of two fronts meeting at x could give.
-        let lipschitz = || {
-            ring[..ring_n].iter().all(|&y| {
-                let y = y as usize;
-                !s.dist[y].is_finite() || s.dist[y] - (pos[y] - px).norm() <= d
-            })
+        // Nor below a neighbour's distance less the edge between them (by more than
+        // [`NEIGHBOUR_SLACK`] with `slack`: a neighbour may be too long by that much;
+        // `relax` then lowers it).
+        let allowance = if slack {
+            NEIGHBOUR_SLACK * surface.mean_edge
+        } else {
+            0.0
         };
-        if ok && d < dx && lipschitz() {
-            scratch.lowered.push((x as u32, d));
+        // The largest amount a neighbour's distance less the edge exceeds `d` by.
+        let excess = || {
+            ring[..ring_n]
+                .iter()
+                .map(|&y| {
+                    let y = y as usize;
+                    s.dist[y] - (pos[y] - px).norm() - d
+                })
+                .filter(|e| e.is_finite())
+                .fold(Real::NEG_INFINITY, Real::max)
+        };
+        if ok && d < dx {
+            let e = excess();
+            if e <= allowance {
+                scratch.lowered.push((x as u32, d));
+                if e > 0.0 {
+                    // Below what a neighbour allows: `relax` starts here.
+                    scratch.all.push(x as u32);
+                }
+            }
         }
     }
     let mut most: Real = 0.0;
@@ -236,6 +281,47 @@ pub(super) fn lower(s: &mut Solver, vertices: &[u32], scratch: &mut Scratch) -> 
         s.dist[x as usize] = d;
     }
     (most, scratch.lowered.len())
+}
+
+/// Step III: keeps the distance 1-Lipschitz along the edges after `lowered` vertices went
+/// down, as Dijkstra's algorithm would: each neighbour is lowered to a lowered vertex's
+/// distance plus the edge between them where that is shorter, nearest first. The edge is a
+/// path, so a neighbour ends no further below its true distance than the lowered vertex
+/// was; each vertex is settled once. Returns how many vertices it lowered.
+pub(super) fn relax(s: &mut Solver, lowered: &[u32]) -> usize {
+    let surface = s.surface;
+    let mesh = surface.mesh;
+    let pos = mesh.positions();
+    let mut heap: BinaryHeap<Entry> = lowered
+        .iter()
+        .map(|&v| Entry {
+            d: s.dist[v as usize],
+            v,
+        })
+        .collect();
+    let mut count = 0;
+    while let Some(Entry { d, v }) = heap.pop() {
+        let x = v as usize;
+        if d > s.dist[x] {
+            continue;
+        }
+        let px = pos[x];
+        for &f in surface.faces_of(x) {
+            for y in mesh.triangles()[f as usize] {
+                let y = y as usize;
+                let through = d + (pos[y] - px).norm();
+                if through < s.dist[y] * (1.0 - RELAX_SLACK) {
+                    s.dist[y] = through;
+                    heap.push(Entry {
+                        d: through,
+                        v: y as u32,
+                    });
+                    count += 1;
+                }
+            }
+        }
+    }
+    count
 }
 
 /// The best sample and, on each side of it, the nearest sample at least `gap` away and at

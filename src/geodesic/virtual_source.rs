@@ -21,13 +21,15 @@
 //!         itself. The tests check the orders and the focal error. Measured (`npm run
 //!         bench -- geodesic`: WebAssembly in Node beside native fast marching, potpourri3d
 //!         1.4.0; max / mean error in mm against the analytic distance): cap R 1000 from its
-//!         rim, 500k triangles 0.0091 / 0.0009, 2M 0.0034 / 0.0002 (fast marching 1.8 / 0.10
-//!         and 1.0 / 0.05); sphere R 100 from a point, 500k 0.0071 / 0.0005, 2M 0.0037 /
-//!         0.00013 (fast marching 3.0 / 1.3 and 2.9 / 1.2); time, two runs on a shared
-//!         machine: cap 500k 0.87× / 1.08× fast marching's solve, 2M 0.75× / 0.75×; sphere
-//!         500k 0.94× / 0.94×, 2M 0.84× / 0.81× (fast marching itself moved by 12 % between
-//!         the runs; without front interpolation, on a quiet machine: 0.85×, 0.70×, 0.78×,
-//!         0.68×). The bench times a first call in a fresh process: at 500k its fixed costs
+//!         rim, 500k triangles 0.0062 / 0.0009, 2M 0.0031 / 0.0002 (fast marching 1.8 / 0.10
+//!         and 1.0 / 0.05); sphere R 100 from a point, 500k 0.0078 / 0.0006, 2M 0.0043 /
+//!         0.00013 (fast marching 3.0 / 1.3 and 2.9 / 1.2); the cap from its section by
+//!         the plane at θ = 0.6 (the accuracy example, native), 0.043 / 0.0028 and 0.0051 /
+//!         0.0008. Time on a shared machine (one run), ratio to fast marching's solve: cap
+//!         500k 0.85×, 2M 0.66×; sphere 500k 0.95×, 2M 0.82× (about 1.1 of the time
+//!         without front interpolation at 500k, alternating the builds; fast marching itself
+//!         moves by 10–15 % between runs). The bench times a first call in a fresh process:
+//!         at 500k its fixed costs
 //!         (the engine's baseline code in loops run once, memory growth) weigh most.
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
 //!         a normal per face, the heap, the focal patches: at most a quarter of the faces
@@ -39,7 +41,7 @@
 //!     when `p = q`, the straight piece of a source curve nearest to the vertex otherwise, so
 //!     curve sources (a boundary, a plane section) are propagated as well as points; a piece
 //!     runs on by one mean edge beyond an end where the curve turns towards the vertex's
-//!     side (see [`EXTENSION`]).
+//!     side or goes straight on (see [`EXTENSION`] and [`STRAIGHT`]).
 //!   - A source is moved from the plane of one face around vertex `u` to another by the
 //!     smallest rotation about `u` taking one normal to the other (Rodrigues), not by
 //!     unfolding the faces between (the two differ by the angle defect of the part of the fan
@@ -72,6 +74,9 @@ pub(super) const FOLD_COSINE: Real = -0.999;
 /// the vertex the end of a piece (0.11 mm too far on the 500k cap with half an edge), and
 /// running on far makes a wavy curve seem nearer than it is).
 const EXTENSION: Real = 1.0;
+/// Sine of the turn between two pieces of a source curve below which the curve runs
+/// straight on (either way, as rounding has it for the two halves of one edge).
+const STRAIGHT: Real = 1e-9;
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
 /// Relative slack of the lower bound on an offer (far above the rounding of the offer).
@@ -556,7 +561,9 @@ pub(crate) fn propagate(
                             return false;
                         };
                         let (u0, u1) = (at - curve.points[i0], curve.points[i1] - at);
-                        normal.cross(&u0).dot(&u1) * side >= 0.0
+                        let turn = normal.cross(&u0).dot(&u1);
+                        // Straight on (two halves of one edge, rounded either way) runs on.
+                        turn.abs() <= STRAIGHT * u0.norm() * u1.norm() || turn * side >= 0.0
                     };
                     let prev = (j > 0 || (curve.closed && n > 2)).then(|| (j + n - 1) % n);
                     let next2 = (j + 2 < n || (curve.closed && n > 2)).then(|| (j + 2) % n);
