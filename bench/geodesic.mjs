@@ -4,6 +4,9 @@
 // Cases (GEODESIC_CURVED_SIZES, default 500000,2000000 triangles):
 //   - a spherical cap R 1000 mm, half-angle 1 rad, in rings of 6·i vertices, its rim as the
 //     source: the distance of a point at polar angle θ is R·(1 − θ);
+//   - the same cap from its section by the plane through its ring of vertices nearest to
+//     θ = 0.6 (a plane-section source; fast marching gets that ring as a closed curve):
+//     R·|θ − θs|;
 //   - a sphere R 100 mm from a cube of n × n cells a face, projected equi-angularly, a point
 //     source at its south pole: the great-circle distance.
 // Each method runs in a child process (fresh WebAssembly memory): Mesh.fromStl, then
@@ -59,7 +62,18 @@ function cap(target) {
   }
   const rim = Array.from({ length: 6 * rings }, (_, k) => start[rings] + k);
   const exact = (x, y, z) => CAP_R * (1 - Math.acos(Math.min(1, Math.max(-1, z / Math.hypot(x, y, z)))));
-  return { positions: Float64Array.from(pos, Math.fround), triangles: Uint32Array.from(tri), rim, exact };
+  // The ring nearest to θ = 0.6, for the plane-section case.
+  const i0 = Math.round(0.6 * rings);
+  const ring = Array.from({ length: 6 * i0 }, (_, k) => start[i0] + k);
+  return { positions: Float64Array.from(pos, Math.fround), triangles: Uint32Array.from(tri), rim, exact, ring, theta: i0 / rings };
+}
+
+/** The cap from its section by the plane through its ring nearest to θ = 0.6 (sampled at the
+ *  ring's vertices and where it crosses edges): distance R·|θ − θs|. */
+function section(target) {
+  const m = cap(target);
+  const exact = (x, y, z) => CAP_R * Math.abs(Math.acos(Math.min(1, Math.max(-1, z / Math.hypot(x, y, z)))) - m.theta);
+  return { ...m, exact };
 }
 
 /** Cube sphere: n × n cells a face (n even), 12·n² triangles; the south pole is a vertex. */
@@ -100,7 +114,7 @@ function sphere(target) {
   return { positions, triangles: Uint32Array.from(tri), pole, exact };
 }
 
-const SHAPES = { cap, sphere };
+const SHAPES = { cap, section, sphere };
 
 function toBinaryStl({ positions: p, triangles: t }) {
   const count = t.length / 3;
@@ -136,6 +150,10 @@ async function runCase(shape, target, method) {
   const mesh = Mesh.fromStl(toBinaryStl(mesh3));
   const positions = mesh.positions();
   let source = { boundaryOf: 'mesh' };
+  if (shape === 'section') {
+    const z = CAP_R * Math.cos(mesh3.theta);
+    source = { plane: { point: [CAP_R * Math.sin(mesh3.theta), 0, z], normal: [0, 0, 1] } };
+  }
   if (shape === 'sphere') {
     let pole = 0;
     for (let v = 1; v < positions.length / 3; v++) if (positions[3 * v + 2] < positions[3 * pole + 2]) pole = v;
@@ -189,9 +207,9 @@ function runFmm(python, shape, target) {
   try {
     writeFileSync(join(dir, 'V.bin'), new Uint8Array(m.positions.buffer));
     writeFileSync(join(dir, 'F.bin'), new Uint8Array(Int32Array.from(m.triangles).buffer));
-    const src = shape === 'cap' ? m.rim : [m.pole];
+    const src = shape === 'cap' ? m.rim : shape === 'section' ? m.ring : [m.pole];
     writeFileSync(join(dir, 'S.bin'), new Uint8Array(Int32Array.from(src).buffer));
-    const out = execFileSync(python, ['-c', PYTHON_FMM, dir, shape === 'cap' ? 'closed' : 'point'], { encoding: 'utf8' });
+    const out = execFileSync(python, ['-c', PYTHON_FMM, dir, shape === 'sphere' ? 'point' : 'closed'], { encoding: 'utf8' });
     const times = JSON.parse(out.trim().split('\n').pop());
     const d = new Float64Array(readFileSync(join(dir, 'D.bin')).buffer.slice(0));
     return { ...times, ...errors(m.positions, d, m.exact) };
@@ -203,13 +221,15 @@ function runFmm(python, shape, target) {
 export async function main() {
   console.log('\ngeodesic distance on doubly curved meshes against the analytic distance:' +
     `\n  cap: R ${CAP_R} mm, half-angle 1 rad, rim as source, distance R·(1 − θ);` +
+    '\n  section: the same cap, the source its section by the plane through its ring of vertices nearest to' +
+    ' θ = 0.6 (fast marching: that ring as a closed curve), distance R·|θ − θs|;' +
     `\n  sphere: R ${SPHERE_R} mm (cube sphere), point source at the south pole, great-circle distance.` +
     '\n  Time: geodesicDistance alone (WebAssembly in Node); fast marching: potpourri3d 1.4.0, native, solve' +
     ' (and setup + solve); ×FMM: time / fast-marching solve time.');
   const fmm = potpourri();
   if (fmm.why) console.log(`  fast marching column left out: ${fmm.why}.`);
   console.log('shape    triangles  method          time ms   ×FMM   max err mm  mean err mm');
-  for (const shape of ['cap', 'sphere']) {
+  for (const shape of ['cap', 'section', 'sphere']) {
     for (const size of SIZES) {
       let ref = null;
       if (fmm.python) {
