@@ -387,7 +387,7 @@ fn fronts_converging_on_the_cap_are_interpolated_between_the_sources_held() {
     // rim its neighbours held, often the same piece for several of them. Before the distances
     // there were interpolated between those pieces (`fronts.rs`) the error was up to 0.21 mm
     // (mean 0.019) on the cap and 0.22 mm (mean 0.023) on the same mesh flattened into a
-    // disk, where every unfolding is exact; now 0.11 (0.009) and 0.08 (0.007). What is left
+    // disk, where every unfolding is exact; now 0.03 (0.009) and 0.08 (0.008). What is left
     // is mostly the unfolding's own error on the cap, and on the disk the rim's 600 straight
     // pieces, which the parabola through three samples smooths over.
     let (worst, mean) = converging_error(100, false, 150.0, 400.0);
