@@ -98,161 +98,150 @@ pub(super) fn refine_focal(
     // Front interpolation around the foci, before the patches are cut (a patch is seeded
     // from the sources, which it leaves as they were).
     interpolate_fronts(s, &focal, extent, rings as u32);
-    let used = 'patch: {
-        // Step II: vertex rings by breadth-first search (each vertex enters the queue once).
-        let mut ring = vec![u8::MAX; mesh.vertex_count()];
-        let mut queue = VecDeque::new();
-        for &v in &focal {
-            ring[v as usize] = 0;
-            queue.push_back(v as usize);
+    // Step II: vertex rings by breadth-first search (each vertex enters the queue once).
+    let mut ring = vec![u8::MAX; mesh.vertex_count()];
+    let mut queue = VecDeque::new();
+    for &v in &focal {
+        ring[v as usize] = 0;
+        queue.push_back(v as usize);
+    }
+    let mut reached = Vec::new();
+    // Faces a patch may have: each becomes four.
+    let cap = budget / 4;
+    let mut faces_seen = 0usize;
+    let mut last_ring = rings;
+    while let Some(v) = queue.pop_front() {
+        if ring[v] > last_ring {
+            ring[v] = u8::MAX;
+            continue;
         }
-        let mut reached = Vec::new();
-        // Faces a patch may have: each becomes four.
-        let cap = budget / 4;
-        let mut faces_seen = 0usize;
-        let mut last_ring = rings;
-        while let Some(v) = queue.pop_front() {
-            if ring[v] > last_ring {
-                ring[v] = u8::MAX;
-                continue;
-            }
-            reached.push(v);
-            faces_seen += surface.faces_of(v).len();
-            if faces_seen > 2 * cap && last_ring > ring[v] {
-                // A vertex has about six faces and a face three vertices: stop after this ring.
-                last_ring = ring[v];
-            }
-            if ring[v] >= last_ring {
-                continue;
-            }
-            for &f in surface.faces_of(v) {
-                for w in mesh.triangles()[f as usize] {
-                    if ring[w as usize] == u8::MAX {
-                        ring[w as usize] = ring[v] + 1;
-                        queue.push_back(w as usize);
-                    }
+        reached.push(v);
+        faces_seen += surface.faces_of(v).len();
+        if faces_seen > 2 * cap && last_ring > ring[v] {
+            // A vertex has about six faces and a face three vertices: stop after this ring.
+            last_ring = ring[v];
+        }
+        if ring[v] >= last_ring {
+            continue;
+        }
+        for &f in surface.faces_of(v) {
+            for w in mesh.triangles()[f as usize] {
+                if ring[w as usize] == u8::MAX {
+                    ring[w as usize] = ring[v] + 1;
+                    queue.push_back(w as usize);
                 }
             }
         }
-        // Every vertex left with a ring was reached (the others were reset), so a face is in the
-        // patch when all its corners have a ring: a test in O(1).
-        let in_patch = |f: usize| {
-            mesh.triangles()[f]
-                .iter()
-                .all(|&w| ring[w as usize] != u8::MAX)
-        };
-        // Ascending without a sort: marked in a bit set over the faces, then read in order.
-        let mut marked = vec![0u64; mesh.triangle_count().div_ceil(64)];
-        for &v in &reached {
-            for &f in surface.faces_of(v) {
-                if in_patch(f as usize) {
-                    marked[f as usize / 64] |= 1 << (f % 64);
-                }
-            }
-        }
-        let mut patch: Vec<u32> = Vec::with_capacity(faces_seen / 3 + 1);
-        for (w, &bits) in marked.iter().enumerate() {
-            let mut bits = bits;
-            while bits != 0 {
-                patch.push((64 * w) as u32 + bits.trailing_zeros());
-                bits &= bits - 1;
-            }
-        }
-        if patch.is_empty() || 4 * patch.len() > budget {
-            break 'patch 0;
-        }
-        let levels = 1;
-        // Step III.
-        let mut refined = subdivide(surface, &patch, levels);
-        let (positions, triangles) = (
-            std::mem::take(&mut refined.positions),
-            std::mem::take(&mut refined.triangles),
-        );
-        let mesh2 = TriMesh::new(positions, triangles).map_err(|e| {
-            GeodesicError::LimitExceeded(format!("the focal patch could not be built: {e}"))
-        })?;
-        let adjacency2 = FaceAdjacency::new(&mesh2);
-        let surface2 = Surface::new(&mesh2, &adjacency2, None)?;
-        let mut s2 = Solver::new(&surface2);
-        s2.reach = s.reach;
-        let pos2 = mesh2.positions();
-        // Seeds: the coarse vertices and edge points on the patch's outer edges.
-        for (i, &f) in patch.iter().enumerate() {
-            let f = f as usize;
-            let child = refined.first_child[i];
-            let tri = mesh.triangles()[f];
-            for k in 0..3 {
-                let v = tri[k] as usize;
-                let outer_vertex = surface.faces_of(v).iter().any(|&g| !in_patch(g as usize));
-                if outer_vertex && s.dist[v].is_finite() {
-                    let r = refined.corner[i][k] as usize;
-                    let src = s
-                        .moved(v, f)
-                        .unwrap_or_else(|| Virtual::point(pos[v], s.dist[v], f as u32));
-                    // The distance its source gives (front interpolation may have lowered
-                    // the vertex's below it, which the patch's propagation would not match).
-                    let own = src.sigma
-                        + (pos[v] - foot(&pos[v], &src.p, &src.q, src.extend, s.reach)).norm();
-                    s2.improve(r, own.max(s.dist[v]), Virtual { face: child, ..src });
-                }
-                let outer_edge = matches!(surface.across(f, k), Some(g) if !in_patch(g));
-                if !outer_edge {
-                    continue;
-                }
-                let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-                // Only reached ends carry a source (an unreached one holds a placeholder).
-                let sources =
-                    [a, b].map(|u| s.dist[u].is_finite().then(|| s.moved(u, f)).flatten());
-                for &r in refined.edge_points(i, k) {
-                    let x = pos2[r as usize];
-                    let best = sources
-                        .iter()
-                        .flatten()
-                        .map(|src| {
-                            (
-                                src.sigma
-                                    + (x - foot(&x, &src.p, &src.q, src.extend, s.reach)).norm(),
-                                src,
-                            )
-                        })
-                        .min_by(|p, q| p.0.total_cmp(&q.0));
-                    if let Some((d, src)) = best {
-                        s2.improve(
-                            r as usize,
-                            d,
-                            Virtual {
-                                face: child,
-                                ..*src
-                            },
-                        );
-                    }
-                }
-            }
-        }
-        s2.run(None);
-        s2.free_queue();
-        let used = 4 * patch.len();
-        let used = used
-            + refine_focal(
-                &mut s2,
-                budget - used,
-                depth - 1,
-                rings,
-                // The patch reaches `rings` coarse rings from its focal vertices: twice as many
-                // of its own.
-                Some(2 * rings as u32),
-            )?;
-        for (i, &f) in patch.iter().enumerate() {
-            for (k, &v) in mesh.triangles()[f as usize].iter().enumerate() {
-                let d = s2.dist[refined.corner[i][k] as usize];
-                let v = v as usize;
-                if d < s.dist[v] {
-                    s.dist[v] = d;
-                }
-            }
-        }
-        used
+    }
+    // Every vertex left with a ring was reached (the others were reset), so a face is in the
+    // patch when all its corners have a ring: a test in O(1).
+    let in_patch = |f: usize| {
+        mesh.triangles()[f]
+            .iter()
+            .all(|&w| ring[w as usize] != u8::MAX)
     };
+    // Ascending without a sort: marked in a bit set over the faces, then read in order.
+    let mut marked = vec![0u64; mesh.triangle_count().div_ceil(64)];
+    for &v in &reached {
+        for &f in surface.faces_of(v) {
+            if in_patch(f as usize) {
+                marked[f as usize / 64] |= 1 << (f % 64);
+            }
+        }
+    }
+    let mut patch: Vec<u32> = Vec::with_capacity(faces_seen / 3 + 1);
+    for (w, &bits) in marked.iter().enumerate() {
+        let mut bits = bits;
+        while bits != 0 {
+            patch.push((64 * w) as u32 + bits.trailing_zeros());
+            bits &= bits - 1;
+        }
+    }
+    if patch.is_empty() || 4 * patch.len() > budget {
+        return Ok(0);
+    }
+    let levels = 1;
+    // Step III.
+    let mut refined = subdivide(surface, &patch, levels);
+    let (positions, triangles) = (
+        std::mem::take(&mut refined.positions),
+        std::mem::take(&mut refined.triangles),
+    );
+    let mesh2 = TriMesh::new(positions, triangles).map_err(|e| {
+        GeodesicError::LimitExceeded(format!("the focal patch could not be built: {e}"))
+    })?;
+    let adjacency2 = FaceAdjacency::new(&mesh2);
+    let surface2 = Surface::new(&mesh2, &adjacency2, None)?;
+    let mut s2 = Solver::new(&surface2);
+    s2.reach = s.reach;
+    let pos2 = mesh2.positions();
+    // Seeds: the coarse vertices and edge points on the patch's outer edges.
+    for (i, &f) in patch.iter().enumerate() {
+        let f = f as usize;
+        let child = refined.first_child[i];
+        let tri = mesh.triangles()[f];
+        for k in 0..3 {
+            let v = tri[k] as usize;
+            let outer_vertex = surface.faces_of(v).iter().any(|&g| !in_patch(g as usize));
+            if outer_vertex && s.dist[v].is_finite() {
+                let r = refined.corner[i][k] as usize;
+                let src = s
+                    .moved(v, f)
+                    .unwrap_or_else(|| Virtual::point(pos[v], s.dist[v], f as u32));
+                // The distance its source gives (front interpolation may have lowered
+                // the vertex's below it, which the patch's propagation would not match).
+                let own = src.distance(&pos[v], s.reach);
+                s2.improve(r, own.max(s.dist[v]), Virtual { face: child, ..src });
+            }
+            let outer_edge = matches!(surface.across(f, k), Some(g) if !in_patch(g));
+            if !outer_edge {
+                continue;
+            }
+            let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
+            // Only reached ends carry a source (an unreached one holds a placeholder).
+            let sources = [a, b].map(|u| s.dist[u].is_finite().then(|| s.moved(u, f)).flatten());
+            for &r in refined.edge_points(i, k) {
+                let x = pos2[r as usize];
+                let best = sources
+                    .iter()
+                    .flatten()
+                    .map(|src| (src.distance(&x, s.reach), src))
+                    .min_by(|p, q| p.0.total_cmp(&q.0));
+                if let Some((d, src)) = best {
+                    s2.improve(
+                        r as usize,
+                        d,
+                        Virtual {
+                            face: child,
+                            ..*src
+                        },
+                    );
+                }
+            }
+        }
+    }
+    s2.run(None);
+    s2.free_queue();
+    let used = 4 * patch.len();
+    let used = used
+        + refine_focal(
+            &mut s2,
+            budget - used,
+            depth - 1,
+            rings,
+            // The patch reaches `rings` coarse rings from its focal vertices: twice as many
+            // of its own.
+            Some(2 * rings as u32),
+        )?;
+    for (i, &f) in patch.iter().enumerate() {
+        for (k, &v) in mesh.triangles()[f as usize].iter().enumerate() {
+            let d = s2.dist[refined.corner[i][k] as usize];
+            let v = v as usize;
+            if d < s.dist[v] {
+                s.dist[v] = d;
+            }
+        }
+    }
     Ok(used)
 }
 
@@ -301,7 +290,7 @@ fn interpolate_fronts(s: &mut Solver, focal: &[u32], extent: Option<u32>, rings:
         ring = next;
         k += 1;
     }
-    fronts::relax(s, &scratch.all);
+    fronts::relax(s, &scratch.relax_from);
 }
 
 /// Whether the ray directions of the neighbours of interior vertex `v` wind once around it

@@ -87,7 +87,7 @@ pub(super) struct Scratch {
     lowered: Vec<(u32, Real)>,
     /// Every vertex lowered below what a neighbour's distance allowed (where [`relax`]
     /// starts).
-    pub(super) all: Vec<u32>,
+    pub(super) relax_from: Vec<u32>,
 }
 
 impl Scratch {
@@ -95,16 +95,15 @@ impl Scratch {
         Scratch {
             stamp: vec![u32::MAX; vertices],
             lowered: Vec::new(),
-            all: Vec::new(),
+            relax_from: Vec::new(),
         }
     }
 }
 
 /// Lowers the distances of `vertices` by interpolating their neighbours' sources; returns
 /// the largest amount a distance was lowered by and how many were lowered. `slack`: see
-/// [`NEIGHBOUR_SLACK`]. The sources are
-/// read, never changed, and the lowered distances are written once every vertex is done,
-/// so the order of `vertices` does not matter.
+/// [`NEIGHBOUR_SLACK`]. The sources are read, never changed, and the lowered distances are
+/// written once every vertex is done, so the order of `vertices` does not matter.
 pub(super) fn lower(
     s: &mut Solver,
     vertices: &[u32],
@@ -270,7 +269,7 @@ pub(super) fn lower(
                 scratch.lowered.push((x as u32, d));
                 if e > 0.0 {
                     // Below what a neighbour allows: `relax` starts here.
-                    scratch.all.push(x as u32);
+                    scratch.relax_from.push(x as u32);
                 }
             }
         }

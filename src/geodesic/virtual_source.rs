@@ -29,8 +29,8 @@
 //!         500k 0.85×, 2M 0.66×; sphere 500k 0.95×, 2M 0.82× (about 1.1 of the time
 //!         without front interpolation at 500k, alternating the builds; fast marching itself
 //!         moves by 10–15 % between runs). The bench times a first call in a fresh process:
-//!         at 500k its fixed costs
-//!         (the engine's baseline code in loops run once, memory growth) weigh most.
+//!         at 500k its fixed costs (the engine's baseline code in loops run once, memory
+//!         growth) weigh most.
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
 //!         a normal per face, the heap, the focal patches: at most a quarter of the faces
 //!         again; front interpolation reuses the heap's memory), its worst case refused up
@@ -107,6 +107,15 @@ impl Virtual {
             face,
             extend: [false; 2],
         }
+    }
+}
+
+impl Virtual {
+    /// The distance it offers `x` (in its plane): `σ` plus the way to its nearest point,
+    /// its segment run on by `reach` at the ends marked.
+    #[inline]
+    pub(super) fn distance(&self, x: &Point3, reach: Real) -> Real {
+        self.sigma + (x - foot(x, &self.p, &self.q, self.extend, reach)).norm()
     }
 }
 
