@@ -190,7 +190,8 @@ pub(super) fn refine_focal(
                     .unwrap_or_else(|| Virtual::point(pos[v], s.dist[v], f as u32));
                 // The distance its source gives (front interpolation may have lowered
                 // the vertex's below it, which the patch's propagation would not match).
-                let own = src.distance(&pos[v], s.reach);
+                let own =
+                    src.distance(&pos[v], &s.surface.face_normals[src.face as usize], s.reach);
                 s2.improve(r, own.max(s.dist[v]), Virtual { face: child, ..src });
             }
             let outer_edge = matches!(surface.across(f, k), Some(g) if !in_patch(g));
@@ -205,7 +206,12 @@ pub(super) fn refine_focal(
                 let best = sources
                     .iter()
                     .flatten()
-                    .map(|src| (src.distance(&x, s.reach), src))
+                    .map(|src| {
+                        (
+                            src.distance(&x, &s.surface.face_normals[src.face as usize], s.reach),
+                            src,
+                        )
+                    })
                     .min_by(|p, q| p.0.total_cmp(&q.0));
                 if let Some((d, src)) = best {
                     s2.improve(
@@ -305,7 +311,15 @@ fn is_sink(s: &Solver, v: usize) -> bool {
         if !s.dist[v].is_finite() {
             return Vector3::zeros();
         }
-        let w = pos[v] - foot(&pos[v], &src.p, &src.q, src.extend, s.reach);
+        let w = pos[v]
+            - foot(
+                &pos[v],
+                &src.p,
+                &src.q,
+                &src.run_on,
+                &surface.face_normals[src.face as usize],
+                s.reach,
+            );
         let l = w.norm();
         if l > 0.0 {
             w / l

@@ -132,7 +132,7 @@ pub(super) fn lower(
         let t0 = own.face as usize;
         let n0 = normals[t0];
         let px = pos[x];
-        let w = foot(&px, &own.p, &own.q, own.extend, s.reach) - px;
+        let w = foot(&px, &own.p, &own.q, &own.run_on, &n0, s.reach) - px;
         let wl = w.norm();
         if wl == 0.0 {
             continue;
@@ -173,7 +173,7 @@ pub(super) fn lower(
                     },
                 )
             };
-            let v = foot(&px, &p, &q, sz.extend, s.reach) - px;
+            let v = foot(&px, &p, &q, &sz.run_on, &n0, s.reach) - px;
             let (along, lat) = (v.dot(&e1), v.dot(&e2));
             let d = sz.sigma + v.norm();
             if along > 0.0 && lat.abs() <= MAX_SLOPE * along && d >= floor && *n < MAX_SAMPLES {
