@@ -206,7 +206,7 @@ impl RunOn {
 
 /// The nearest point to `x` of segment `[p, q]` (in the plane of normal `normal`), run on
 /// beyond its ends as `run_on[side]` allows for x's side, `reach` (a length) at most.
-#[inline]
+#[inline(always)]
 pub(super) fn foot(
     x: &Point3,
     p: &Point3,
