@@ -2,7 +2,8 @@
 //! distance: `cargo run --release --example geodesic_accurate -- cap|sphere TRIANGLES
 //! [methods…]`. Cap: R 1000, half-angle 1 rad, boundary source, distance R·(θ0 − θ).
 //! Section: the same cap, the source its section by the plane z = R·cos 0.6 (a circle at
-//! θ = 0.6), distance R·|θ − 0.6|.
+//! θ = 0.6), distance R·|θ − 0.6|; `ring`: the same through the ring of vertices nearest to
+//! θ = 0.6.
 //! Sphere: R 100 cube sphere, point source at (0, 0, −R), great-circle distance.
 //! Environment: `F32=1` rounds positions to f32 as read from an STL (the bench's input);
 //! `HASH=1` prints a hash of each method's distances (their bits), to check that a change
@@ -38,18 +39,25 @@ fn main() {
         exact = Box::new(move |i| {
             100.0 * libm::acos((p[i].coords.dot(&pv.coords) / 1e4).clamp(-1.0, 1.0))
         });
-    } else if shape == "section" {
+    } else if shape == "section" || shape == "ring" {
         let rings = (target / 6.0).sqrt().round() as usize;
         s = shapes::cap(rings, 1000.0, 1.0);
         let p = s.mesh.positions().to_vec();
-        let z = 1000.0 * libm::cos(0.6);
-        let at = skinpath::math::Point3::new(1000.0 * libm::sin(0.6), 0.0, z);
+        // `ring`: the plane through the ring of vertices nearest to θ = 0.6, as the bench
+        // takes it (at the ring's angle: the f32 vertices lie within rounding of it).
+        let theta_s = if shape == "ring" {
+            (0.6 * rings as Real).round() / rings as Real
+        } else {
+            0.6
+        };
+        let z = 1000.0 * libm::cos(theta_s);
+        let at = skinpath::math::Point3::new(1000.0 * libm::sin(theta_s), 0.0, z);
         src = GeodesicSource::Plane {
             point: at,
             normal: skinpath::math::Vector3::z(),
         };
         exact = Box::new(move |i| {
-            1000.0 * (libm::acos((p[i].z / 1000.0).clamp(-1.0, 1.0)) - 0.6).abs()
+            1000.0 * (libm::acos((p[i].z / 1000.0).clamp(-1.0, 1.0)) - theta_s).abs()
         });
     } else {
         let rings = (target / 6.0).sqrt().round() as usize;

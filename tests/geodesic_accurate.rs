@@ -409,30 +409,49 @@ fn plane_section_source_is_accurate_on_its_convex_side_too() {
     // straight line; rounded either way, the test of whether the curve turns towards a
     // vertex used to stop such a piece at that joint, and on the convex side, where the
     // fronts spread, vertices between the pieces their neighbours held were offered only
-    // the pieces' ends: 0.56 mm too far within 50 mm of the section, 0.16 mm now (what is
-    // left is the same spreading between pieces that do turn, second order in the edge:
-    // 0.043 mm at 500k triangles).
-    let s = cap(100, CAP_R, 1.0);
+    // the pieces' ends: 0.56 mm too far within 50 mm of the section, then 0.16 mm; 0.047 mm
+    // now (what is left is the same spreading between pieces that do turn, second order in
+    // the edge: 0.043 mm at 500k triangles).
+    // Rounded to f32 (as an STL stores them), the ring's vertices lie within rounding of the
+    // plane, on either side: the section then passes within 1e-5 mm of each, sampled on
+    // them, and each sample's face lies on one side of the curve. Only that face's corners
+    // were seeded, so corners on the other side waited for a neighbour's piece that ended
+    // short of them: 0.40 mm too far 3.5 mm from the section at 500k triangles (now 0.014),
+    // here 0.067 mm within 50 mm of it (now 0.047, as with f64 positions), since the corners
+    // of every face around such a sample are seeded.
+    let exact = cap(100, CAP_R, 1.0);
+    let rounded = shape(
+        exact
+            .mesh
+            .positions()
+            .iter()
+            .map(|p| p.map(|c| c as f32 as Real))
+            .collect(),
+        exact.mesh.triangles().to_vec(),
+    );
     let theta0: Real = 0.6;
     let src = GeodesicSource::Plane {
         point: Point3::new(CAP_R * libm::sin(theta0), 0.0, CAP_R * libm::cos(theta0)),
         normal: skinpath::math::Vector3::z(),
     };
-    let d = distance(&s, &src, Method::Accurate).vertex_distance;
-    check_field(&s, &d);
     let analytic = |p: &Point3| CAP_R * (libm::acos((p.z / CAP_R).clamp(-1.0, 1.0)) - theta0).abs();
-    let (mut near, mut all): (Real, Real) = (0.0, 0.0);
-    for (p, d) in s.mesh.positions().iter().zip(&d) {
-        let e = (d - analytic(p)).abs();
-        all = all.max(e);
-        if analytic(p) < 50.0 {
-            near = near.max(e);
+    for (name, s) in [("f64", exact), ("f32", rounded)] {
+        let d = distance(&s, &src, Method::Accurate).vertex_distance;
+        check_field(&s, &d);
+        let (mut near, mut all): (Real, Real) = (0.0, 0.0);
+        for (p, d) in s.mesh.positions().iter().zip(&d) {
+            let e = (d - analytic(p)).abs();
+            all = all.max(e);
+            if analytic(p) < 50.0 {
+                near = near.max(e);
+            }
         }
+        eprintln!(
+            "cap 100 rings ({name}) from a plane section: max error within 50 mm {near:.4}, \
+             anywhere {all:.4}"
+        );
+        assert!(near < 0.055 && all < 0.1, "{name}: {near}, anywhere {all}");
     }
-    eprintln!(
-        "cap 100 rings from a plane section: max error within 50 mm {near:.4}, anywhere {all:.4}"
-    );
-    assert!(near < 0.25 && all < 0.25, "{near}, anywhere {all}");
 }
 
 /// The largest patches of the real aircraft meshes, segmented with the paper's parameters,
