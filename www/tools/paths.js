@@ -107,7 +107,7 @@ const PANEL = `
     </fieldset>
     <fieldset>
       <legend>Method</legend>
-      ${radio('method', 'accurate', 'accurate (merged windows)')}
+      ${radio('method', 'accurate', 'accurate (virtual sources; the default)')}
       ${radio('method', 'exact', 'exact (window propagation; slow on large curved meshes)')}
       ${radio('method', 'fast', 'fast (unfolded wavefronts; approximate on curved meshes)')}
       ${radio('method', 'voxel', 'voxels (the paper)')}
