@@ -140,7 +140,8 @@ impl Virtual {
 /// `s ≤ h·cot φ` past the end, the curve then crosses the perpendicular from the vertex to
 /// the line no further from the vertex than the tolerance beyond the line, so the distance to
 /// the line, which the piece offers there, is never more than the tolerance below the
-/// distance to the curve. Run on regardless (by the full reach wherever the curve turned
+/// distance to the curve. Where the curve turns away at its very next sample the piece does
+/// not run on for that side (see [`source_pieces`]). Run on regardless (by the full reach wherever the curve turned
 /// towards the vertex at the end), a piece offered distances up to 0.63 m too short on a
 /// real airliner patch, shorter than the straight line to the boundary: past a corner, a
 /// hairpin or a turn away further on.
@@ -391,7 +392,7 @@ pub(super) struct Solver<'a> {
     pub(super) surface: &'a Surface<'a>,
     pub(super) dist: Vec<Real>,
     pub(super) src: Vec<Virtual>,
-    /// How far a source segment runs on beyond an end marked in `extend` (a length).
+    /// How far a source segment runs on beyond an end at most (a length; see [`RunOn`]).
     pub(super) reach: Real,
     settled: Vec<bool>,
     /// Whether paths may bend at a vertex: 0 not yet known, 1 no, 2 yes (asked rarely, so
