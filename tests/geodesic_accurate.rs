@@ -305,17 +305,33 @@ fn focal_point_of_the_cap_is_refined() {
 fn focal_point_of_the_sphere_is_near_the_exact_distance() {
     // 3072 triangles, edges of about 10 mm on R 100: against the exact polyhedral distance
     // the accurate method was 0.99 mm off near the antipode before its focal patch was
-    // subdivided, and is 0.2 mm off now, its largest difference anywhere.
-    let (s, src, _) = sphere_case(16);
+    // subdivided, and is 0.2 mm off there now. Elsewhere on so coarse a sphere (faces 6° apart,
+    // where point sources are unfolded around each vertex) it may differ from the exact
+    // polyhedral distance by more (0.41 mm at 233 mm), but is no further from the analytic
+    // distance than the exact method is.
+    let (s, src, analytic) = sphere_case(16);
     let e = distance(&s, &src, Method::Exact).vertex_distance;
     let a = distance(&s, &src, Method::Accurate).vertex_distance;
-    let diff = a
+    let near_antipode = |p: &Point3| p.z > SPHERE_R * libm::cos(0.5);
+    let diff = s
+        .mesh
+        .positions()
         .iter()
-        .zip(&e)
-        .map(|(a, e)| (a - e).abs())
+        .zip(a.iter().zip(&e))
+        .filter(|(p, _)| near_antipode(p))
+        .map(|(_, (a, e))| (a - e).abs())
         .fold(0.0, Real::max);
-    eprintln!("sphere n 16: max |accurate − exact| {diff:.4}");
+    let (a_max, a_mean) = errors(&s, &a, &analytic);
+    let (e_max, e_mean) = errors(&s, &e, &analytic);
+    eprintln!(
+        "sphere n 16: max |accurate − exact| within 0.5 rad of the antipode {diff:.4}; against \
+         the analytic distance accurate {a_max:.4} / {a_mean:.4}, exact {e_max:.4} / {e_mean:.4}"
+    );
     assert!(diff < 0.3, "{diff}");
+    assert!(
+        a_max < e_max * 1.05 && a_mean < e_mean * 1.05,
+        "{a_max} {a_mean}"
+    );
 }
 
 #[test]
@@ -454,6 +470,72 @@ fn plane_section_source_is_accurate_on_its_convex_side_too() {
     }
 }
 
+/// A closed box `a × b × c` (a thin plate when `c` is small), each face an `n × n` grid,
+/// vertices shared along its edges, outward.
+fn boxed(a: Real, b: Real, c: Real, n: usize) -> Shape {
+    let faces: [([Real; 3], [Real; 3], [Real; 3]); 6] = [
+        ([0., 0., 0.], [0., b, 0.], [a, 0., 0.]),
+        ([0., 0., c], [a, 0., 0.], [0., b, 0.]),
+        ([0., 0., 0.], [a, 0., 0.], [0., 0., c]),
+        ([0., b, 0.], [0., 0., c], [a, 0., 0.]),
+        ([0., 0., 0.], [0., 0., c], [0., b, 0.]),
+        ([a, 0., 0.], [0., b, 0.], [0., 0., c]),
+    ];
+    let (mut pos, mut tri) = (Vec::<Point3>::new(), Vec::new());
+    let mut ids = std::collections::HashMap::new();
+    for (o, e1, e2) in faces {
+        let (p, t) = grid(n, n, false, |u, v| {
+            Point3::new(
+                o[0] + u * e1[0] + v * e2[0],
+                o[1] + u * e1[1] + v * e2[1],
+                o[2] + u * e1[2] + v * e2[2],
+            )
+        });
+        let map: Vec<u32> = p
+            .iter()
+            .map(|q| {
+                let key = [q.x, q.y, q.z].map(|x| (x * 1e6).round() as i64);
+                *ids.entry(key).or_insert_with(|| {
+                    pos.push(*q);
+                    pos.len() as u32 - 1
+                })
+            })
+            .collect();
+        tri.extend(t.iter().map(|t| t.map(|v| map[v as usize])));
+    }
+    shape(pos, tri)
+}
+
+#[test]
+fn point_sources_on_boxes_never_undercut_the_exact_distance() {
+    // Every shortest path on a cube is an unfolding across its edges, past its corners (cone
+    // vertices, where turning a source about the vertex in one rotation misplaces it by a
+    // right angle). The accurate method runs long near the corners (bends where no unfolded
+    // ray is offered: up to 0.056 of a side at 3 × 3 cells a face, 0.029 at 8 × 8; before
+    // the unfolding around sharp vertices, 0.081 from vertex 1 of the 3 × 3 cube) but never
+    // short. (The real models' test checks a thin box of the 747 model, exact now.)
+    for (name, s, max_off) in [
+        ("cube 3", boxed(1.0, 1.0, 1.0, 3), 0.06),
+        ("cube 8", boxed(1.0, 1.0, 1.0, 8), 0.03),
+    ] {
+        for src in [0, 1, 5] {
+            let source = GeodesicSource::Vertices(vec![src]);
+            let e = distance(&s, &source, Method::Exact).vertex_distance;
+            let a = distance(&s, &source, Method::Accurate).vertex_distance;
+            check_field(&s, &a);
+            let off = a
+                .iter()
+                .zip(&e)
+                .map(|(a, e)| (a - e).abs())
+                .fold(0.0, Real::max);
+            let below = a.iter().zip(&e).map(|(a, e)| e - a).fold(0.0, Real::max);
+            eprintln!("{name} from v{src}: max |accurate − exact| {off:.2e}, below {below:.2e}");
+            assert!(below < 1e-9, "{name} from v{src}: {below} below exact");
+            assert!(off <= max_off, "{name} from v{src}: {off} off exact");
+        }
+    }
+}
+
 /// The largest patches of the real aircraft meshes, segmented with the paper's parameters,
 /// their boundary as the source: against independent bounds (no path on the surface is shorter
 /// than the straight line to the nearest boundary point) and against the exact method.
@@ -566,20 +648,20 @@ mod real_models {
     }
 
     /// Bounds (in mean edges) for a point source carried across a whole coarse model (from
-    /// these vertices: from vertex 2000 of the BWB, fronts crossing its sharp wing tips still
-    /// fall 8 edges below the straight line).
-    const MEAN_BOUND: Real = 0.25;
-    const BELOW_BOUND: Real = 0.4;
+    /// these vertices: from vertex 2000 of the BWB, whose edges are a metre long, distances
+    /// still fall 0.4 of an edge below the straight line).
+    const MEAN_BOUND: Real = 0.2;
+    const BELOW_BOUND: Real = 0.02;
 
     #[test]
     fn point_sources_on_whole_coarse_models_never_undercut_the_straight_line() {
         // Before point sources were unfolded across the faces around sharp vertices and
         // offers were checked against the far end of the edge they cross, the accurate
         // distances from vertex 0 of the airplane fell 3.1 edges below the straight line and
-        // lay a mean 0.91 edge off exact (now 0.018 and 0.13); on the BWB 2.2 edges below
-        // (now 0.34), on the 747's thin box (vertex 0) 0.29 (now exact).
+        // lay a mean 0.91 edge off exact (now 0.014 and 0.08); on the BWB 2.2 edges below
+        // (now none), on the 747's thin box (vertex 0) 0.29 (now exact).
         for (name, sources) in [
-            ("airplane_10796_pymeshlab.stl", vec![0u32, 3000]),
+            ("airplane_10796_pymeshlab.stl", vec![0u32, 1000, 3000]),
             ("bwb_4464_pygeo_ascii.stl", vec![0, 1000]),
             ("b747_14062_flightgear.stl", vec![0, 1000, 3000]),
         ] {
