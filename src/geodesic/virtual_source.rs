@@ -589,11 +589,13 @@ impl<'a> Solver<'a> {
         // path on the surface (no paper: Dijkstra's minimum picks exactly such offers, and
         // on a coarse wing-body mesh they took a point source's distances 0.6 m below the
         // exact ones at 7 m, below the straight line).
-        if self.settled[other] {
+        // Checked for point sources: a segment's foot at the other end would cost more (7 %
+        // on the bench's 500k cap in WebAssembly), and the pieces of a source curve lie near
+        // the vertices they serve, with no cone vertex between.
+        if s.p == s.q && self.settled[other] {
             let po = pos[other];
-            let fo = foot(&po, &s.p, &s.q, &s.run_on, n, self.reach);
-            if s.sigma + (po - fo).norm() < self.dist[other] - CONSISTENCY * self.surface.mean_edge
-            {
+            let short = self.dist[other] - CONSISTENCY * self.surface.mean_edge;
+            if s.sigma + (po - s.p).norm() < short {
                 return None;
             }
         }
@@ -619,7 +621,7 @@ impl<'a> Solver<'a> {
     /// face's plane), with the source unfolded into that face's plane. `false` when the
     /// source gives no direction at `u` (it lies on `u`, or outside the corner of its face
     /// at `u`): then it is turned as on smooth surfaces.
-    #[inline(never)]
+    #[inline(always)]
     fn walk_fan(&mut self, u: usize) -> bool {
         self.walked.clear();
         let surface = self.surface;
@@ -721,12 +723,22 @@ impl<'a> Solver<'a> {
         }
     }
 
+    /// Settles `u` by [`Self::settle_walked`] if the faces around it are sharp (see
+    /// [`Self::is_sharp`]) and its point source gives a direction there; `false` when it is
+    /// left to [`Self::settle`]. Out of line, to keep the common case's code tight.
+    #[inline(never)]
+    fn settled_walking(&mut self, u: usize) -> bool {
+        let walk = self.is_sharp(u, self.src[u].face as usize) && self.walk_fan(u);
+        if walk {
+            self.settle_walked(u);
+        }
+        walk
+    }
+
     /// [`Self::settle`] at a sharp vertex, its point source unfolded by [`Self::walk_fan`]:
     /// each neighbour is offered the source as unfolded into the face between (or as it is,
     /// in the source's own face), else the other corner's source, else the bend at `u`.
-    /// Out of line, so that the common case keeps its code tight.
-    #[inline(never)]
-    #[cold]
+    #[inline(always)]
     fn settle_walked(&mut self, u: usize) {
         let surface = self.surface;
         let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
@@ -796,8 +808,7 @@ impl<'a> Solver<'a> {
         // instead, and offered only where its straight way crosses them (no paper). A
         // segment's rays to the fan leave it from different points, most not passing u: it
         // is turned as before.
-        if su.p == su.q && self.is_sharp(u, su.face as usize) && self.walk_fan(u) {
-            self.settle_walked(u);
+        if su.p == su.q && self.settled_walking(u) {
             return;
         }
         for &t in surface.faces_of(u) {
