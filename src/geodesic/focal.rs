@@ -243,7 +243,9 @@ pub(super) fn refine_focal(
         for (k, &v) in mesh.triangles()[f as usize].iter().enumerate() {
             let d = s2.dist[refined.corner[i][k] as usize];
             let v = v as usize;
-            if d < s.dist[v] {
+            // (never below the straight line from a source vertex: a patch is propagated
+            // without that bound).
+            if d < s.dist[v] && d >= s.floor(v) {
                 s.dist[v] = d;
             }
         }

@@ -276,6 +276,8 @@ pub(super) fn lower(
     }
     let mut most: Real = 0.0;
     for &(x, d) in &scratch.lowered {
+        // Never below the straight line from a source vertex (see `Solver::floor`).
+        let d = d.max(s.floor(x as usize)).min(s.dist[x as usize]);
         most = most.max(s.dist[x as usize] - d);
         s.dist[x as usize] = d;
     }

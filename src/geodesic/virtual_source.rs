@@ -22,13 +22,14 @@
 //!         patches of real aircraft meshes (edges up to 2 m) distances from the patch
 //!         boundary keep to the exact method within a mean 0.009 of an edge and never fall
 //!         more than 0.011 of an edge below the straight line (a test checks it). A point
-//!         source carried across a whole coarse model is unfolded exactly at its creases
-//!         and refused where it runs past a cone vertex on the wrong side (see
-//!         [`Solver::walk_fan`], [`CONSISTENCY`]): from vertex 0, largest / mean error
-//!         against the exact method on a wing-body model (5 cm edges) 0.28 / 0.020 m at up
-//!         to 10 m (the fast method 0.013 / 0.005), on an airliner 0.016 / 0.002 m; known
-//!         limit: on a BWB model with metre-long edges, from vertex 2000, 0.4 of an edge
-//!         below the straight line. Measured (`npm run
+//!         source carried across a whole coarse model is unfolded exactly at its creases,
+//!         refused where it runs past a cone vertex on the wrong side (see
+//!         [`Solver::walk_fan`], [`CONSISTENCY`]), and never offers less than the straight
+//!         line from its source vertex (see [`Solver::floor`]): from vertex 0, largest / mean
+//!         error against the exact method on a wing-body model (5 cm edges) 0.28 / 0.020 m at
+//!         up to 10 m (the fast method 0.013 / 0.005), on an airliner 0.016 / 0.002 m, on a
+//!         BWB model with metre-long edges 1.05 / 0.19 m (a test checks the line and the
+//!         mean on three models). Measured (`npm run
 //!         bench -- geodesic`: WebAssembly in Node beside native fast marching, potpourri3d
 //!         1.4.0; max / mean error in mm against the analytic distance): cap R 1000 from its
 //!         rim, 500k triangles 0.0062 / 0.0009, 2M 0.0031 / 0.0002 (fast marching 1.8 / 0.10
@@ -59,6 +60,10 @@
 //!     unfolding the faces between (the two differ by the angle defect of the part of the fan
 //!     between them, which changes distances only in the third order of the edge length;
 //!     unfolding the fan exactly was tried: within 20 % on the tests' meshes, 1.5–2× slower).
+//!   - For a source of vertices, each vertex also keeps the source vertex its source came
+//!     from (4 bytes), and no offer, focal patch or interpolated front gives it less than
+//!     the straight line from there: an unfolding carried round a sharp edge (the trailing
+//!     edge of a coarse wing) and on past where it held is refused, not taken.
 //!   - An offer is used only when the straight segment from the source's nearest point to
 //!     `x` crosses the edge of the face opposite `x` (the paper accepts every offer); when
 //!     none does, `x` gets the path bending at the settled vertex, which then becomes a
@@ -437,6 +442,11 @@ pub(super) struct Solver<'a> {
     walked: Vec<(u32, u32, Virtual)>,
     /// Scratch of [`Self::walk_fan`]: the edges it crossed, laid out in one plane.
     crossed: Vec<Vector3>,
+    /// For a source of vertices only: the source vertex each vertex's source comes from
+    /// (an index into [`Self::origins`]); empty otherwise.
+    origin: Vec<u32>,
+    /// The positions of the source vertices.
+    origins: Vec<Point3>,
 }
 
 impl<'a> Solver<'a> {
@@ -455,6 +465,8 @@ impl<'a> Solver<'a> {
             maxima: Vec::new(),
             walked: Vec::new(),
             crossed: Vec::new(),
+            origin: Vec::new(),
+            origins: Vec::new(),
         }
     }
 
@@ -589,6 +601,17 @@ impl<'a> Solver<'a> {
         // path on the surface (no paper: Dijkstra's minimum picks exactly such offers, and
         // on a coarse wing-body mesh they took a point source's distances 0.6 m below the
         // exact ones at 7 m, below the straight line).
+        // No path from a source vertex is shorter than the straight line from it: an offer
+        // below it is an unfolding carried round a sharp edge past where it held (the
+        // trailing edge of a coarse wing: 8 m short at 25 m on a BWB model).
+        if !self.origin.is_empty() {
+            let giver = if other == b { a } else { b };
+            let o = self.origins[self.origin[giver] as usize];
+            let reach = d * (1.0 + BOUND_SLACK) + BOUND_SLACK * self.surface.mean_edge;
+            if reach * reach < (px - o).norm_squared() {
+                return None;
+            }
+        }
         // Checked for point sources: a segment's foot at the other end would cost more (7 %
         // on the bench's 500k cap in WebAssembly), and the pieces of a source curve lie near
         // the vertices they serve, with no cone vertex between.
@@ -713,13 +736,38 @@ impl<'a> Solver<'a> {
     }
 
     #[inline(always)]
-    pub(super) fn improve(&mut self, x: usize, d: Real, s: Virtual) {
+    pub(super) fn improve(&mut self, x: usize, d: Real, s: Virtual) -> bool {
         if d < self.dist[x] {
             self.dist[x] = d;
             self.src[x] = s;
             if !self.settled[x] {
                 self.heap.push_or_lower(x as u32, d);
             }
+            true
+        } else {
+            false
+        }
+    }
+
+    /// The least distance `v` may have: the straight line from its source vertex when the
+    /// source is vertices only (see [`Self::origin`]), else 0. The focal patches and the
+    /// front interpolation lower distances without tracking sources, and keep to it.
+    pub(super) fn floor(&self, v: usize) -> Real {
+        match self.origin.get(v) {
+            Some(&o) => {
+                let r = (self.surface.mesh.positions()[v] - self.origins[o as usize]).norm();
+                r * (1.0 - BOUND_SLACK)
+            }
+            None => 0.0,
+        }
+    }
+
+    /// [`Self::improve`] with the source handed on by vertex `giver` (whose source vertex
+    /// `x` then shares).
+    #[inline(always)]
+    fn improve_from(&mut self, x: usize, d: Real, s: Virtual, giver: usize) {
+        if self.improve(x, d, s) && !self.origin.is_empty() {
+            self.origin[x] = self.origin[giver];
         }
     }
 
@@ -773,17 +821,19 @@ impl<'a> Solver<'a> {
                         }
                     }
                 }
+                let mut giver = u;
                 if best.is_none() && self.settled[y] {
                     best = self
                         .moved(y, t)
                         .and_then(|s| Some((self.offer(&s, t, x, u, y, u)?, s)));
+                    giver = y;
                 }
                 // The bend at u where nothing shorter reaches x (here the source offered may
                 // be the other corner's, not bounded by it).
                 let direct = du + (pos[x] - pu).norm();
                 match best {
-                    Some((d, s)) if d <= direct => self.improve(x, d, s),
-                    _ => self.improve(x, direct, Virtual::point(pu, du, t as u32)),
+                    Some((d, s)) if d <= direct => self.improve_from(x, d, s, giver),
+                    _ => self.improve_from(x, direct, Virtual::point(pu, du, t as u32), u),
                 }
             }
         }
@@ -861,7 +911,7 @@ impl<'a> Solver<'a> {
                         // The full offer would be no better than x's distance: only the
                         // bend at u can change x.
                         if direct < self.dist[x] && self.bends_at(u) {
-                            self.improve(x, direct, Virtual::point(pu, du, t as u32));
+                            self.improve_from(x, direct, Virtual::point(pu, du, t as u32), u);
                         }
                         continue;
                     }
@@ -874,20 +924,22 @@ impl<'a> Solver<'a> {
                         (c > FOLD_COSINE).then(|| self.turned(&su, u, t, &r))
                     }
                 });
-                let mut best = from_u.and_then(|s| Some((self.offer(&s, t, x, u, y, y)?, s)));
+                let mut best = from_u.and_then(|s| Some((self.offer(&s, t, x, u, y, y)?, s, u)));
                 // A settled y offered its own source to x across the same edge when it was
                 // settled; it matters again only as the alternative to a bend at u.
                 if best.is_none() && self.settled[y] {
                     best = self
                         .moved(y, t)
-                        .and_then(|s| Some((self.offer(&s, t, x, u, y, u)?, s)));
+                        .and_then(|s| Some((self.offer(&s, t, x, u, y, u)?, s, y)));
                 }
                 // The path bending at u: a new point source there (exact at saddle and
                 // boundary vertices; elsewhere only when no unfolded ray reaches x).
                 let at_u = Virtual::point(pu, du, t as u32);
                 match best {
-                    Some((d, s)) if !(direct < d && self.bends_at(u)) => self.improve(x, d, s),
-                    _ => self.improve(x, direct, at_u),
+                    Some((d, s, giver)) if !(direct < d && self.bends_at(u)) => {
+                        self.improve_from(x, d, s, giver)
+                    }
+                    _ => self.improve_from(x, direct, at_u, u),
                 }
             }
         }
@@ -1085,9 +1137,10 @@ pub(crate) fn propagate(
     let mesh = surface.mesh;
     let pos = mesh.positions();
     let nv = mesh.vertex_count();
-    // Worst case: a source, distance, two flags, a queue entry and its index per vertex,
+    // Worst case: a source, distance, two flags, a queue entry and its index, the source
+    // vertex it comes from per vertex,
     // the face normals (held by the surface) and the focal patches.
-    let per_vertex = std::mem::size_of::<Virtual>() + std::mem::size_of::<Entry>() + 14;
+    let per_vertex = std::mem::size_of::<Virtual>() + std::mem::size_of::<Entry>() + 18;
     let bytes = nv as u64 * per_vertex as u64
         + mesh.triangle_count() as u64 * std::mem::size_of::<Vector3>() as u64
         + focal::budget(surface.faces.len()) as u64 * focal::BYTES_PER_FACE;
@@ -1098,10 +1151,16 @@ pub(crate) fn propagate(
         )));
     }
     let mut s = Solver::new(surface);
-    for &v in &source.vertices {
+    if source.curves.is_empty() {
+        s.origin = vec![0; nv];
+        s.origins = source.vertices.iter().map(|&v| pos[v as usize]).collect();
+    }
+    for (i, &v) in source.vertices.iter().enumerate() {
         let v = v as usize;
         let face = surface.faces_of(v).first().copied().unwrap_or(0);
-        s.improve(v, 0.0, Virtual::point(pos[v], 0.0, face));
+        if s.improve(v, 0.0, Virtual::point(pos[v], 0.0, face)) && !s.origin.is_empty() {
+            s.origin[v] = i as u32;
+        }
     }
     for curve in &source.curves {
         let n = curve.points.len();
