@@ -37,8 +37,14 @@ fn main() {
     let (mesh, adjacency) = (&imported.mesh, &imported.adjacency);
     let seg = segment(adjacency, &imported.geometry, &SegmentParams::default()).unwrap();
     let p = mesh.positions();
+    let whole: Option<u32> = std::env::var("WHOLE").ok().and_then(|w| w.parse().ok());
+    if let Some(v) = whole {
+        if v as usize >= p.len() {
+            eprintln!("WHOLE={v}: the mesh has {} vertices", p.len());
+            std::process::exit(2);
+        }
+    }
     for id in 0..count.min(seg.patches.len()) {
-        let whole: Option<u32> = std::env::var("WHOLE").ok().and_then(|w| w.parse().ok());
         let faces: Vec<u32> = (0..seg.patch_of.len())
             .filter(|&f| whole.is_some() || seg.patch_of[f] == id as i32)
             .map(|f| f as u32)
