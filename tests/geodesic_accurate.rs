@@ -543,8 +543,21 @@ fn point_sources_on_boxes_never_undercut_the_exact_distance() {
 mod real_models {
     use super::*;
     use skinpath::geodesic::boundary_loops;
-    use skinpath::mesh::{prepare_mesh, read_stl_with_progress};
+    use skinpath::mesh::{prepare_mesh, read_stl_with_progress, ImportedMesh};
     use skinpath::segment::{segment, SegmentParams};
+
+    /// A real model from the shared model folder, read and prepared as the page does.
+    fn load(name: &str) -> ImportedMesh {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/models")
+            .join(name);
+        let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        prepare_mesh(
+            read_stl_with_progress(&bytes, &mut |_, _| {}).unwrap(),
+            &mut |_, _| {},
+        )
+        .unwrap()
+    }
 
     /// Shortest distance from `x` to the segment `a`–`b`.
     fn to_segment(x: &Point3, a: &Point3, b: &Point3) -> Real {
@@ -566,15 +579,7 @@ mod real_models {
             "bwb_4464_pygeo_ascii.stl",
             "orion_51736_nasa.stl",
         ] {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../shared/models")
-                .join(name);
-            let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-            let m = prepare_mesh(
-                read_stl_with_progress(&bytes, &mut |_, _| {}).unwrap(),
-                &mut |_, _| {},
-            )
-            .unwrap();
+            let m = load(name);
             let seg = segment(&m.adjacency, &m.geometry, &SegmentParams::default()).unwrap();
             let p = m.mesh.positions();
             for id in 0..seg.patches.len().min(2) {
@@ -666,15 +671,7 @@ mod real_models {
             ("bwb_4464_pygeo_ascii.stl", vec![0, 10, 500, 1000, 2000]),
             ("b747_14062_flightgear.stl", vec![0, 1000, 3000]),
         ] {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../shared/models")
-                .join(name);
-            let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-            let m = prepare_mesh(
-                read_stl_with_progress(&bytes, &mut |_, _| {}).unwrap(),
-                &mut |_, _| {},
-            )
-            .unwrap();
+            let m = load(name);
             let p = m.mesh.positions();
             for src in sources {
                 let source = GeodesicSource::Vertices(vec![src]);

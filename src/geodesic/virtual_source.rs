@@ -24,7 +24,7 @@
 //!         more than 0.011 of an edge below the straight line (a test checks it). A point
 //!         source carried across a whole coarse model is unfolded exactly at its creases,
 //!         refused where it runs past a cone vertex on the wrong side (see
-//!         [`Solver::walk_fan`], [`CONSISTENCY`]), and never offers less than the straight
+//!         `fan_walk.rs`, [`CONSISTENCY`]), and never offers less than the straight
 //!         line from its source vertex (see [`Solver::floor`]): from vertex 0, largest / mean
 //!         error against the exact method on a wing-body model (5 cm edges) 0.28 / 0.020 m at
 //!         up to 10 m (the fast method 0.013 / 0.005), on an airliner 0.016 / 0.002 m, on a
@@ -70,6 +70,8 @@
 //!     point source with `σ = d(u)` (exact at saddle and boundary vertices, where shortest
 //!     paths bend; an upper bound elsewhere).
 
+mod fan_walk;
+
 use super::focal;
 use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
 use super::source::ResolvedSource;
@@ -96,16 +98,6 @@ const EXTENSION: Real = 1.0;
 /// Sine of the turn between two pieces of a source curve below which the curve runs
 /// straight on (either way, as rounding has it for the two halves of one edge).
 const STRAIGHT: Real = 1e-9;
-/// Cosine of the angle between the plane of a vertex's point source and a face around it
-/// below which the source is unfolded across the faces between rather than turned about the
-/// vertex (see [`Solver::walk_fan`]): 3.6°, the creases, corners and wing roots of real
-/// models. Finely meshed smooth surfaces stay well within it (the bench's spheres and caps,
-/// to the bit as before); on coarser ones the walk's refusal of rays that enter a face from
-/// beyond the fan costs about what its exactness gains (a sphere of radius 100 in 3072
-/// triangles, all walked: 0.386 mm off the analytic distance at most, the exact method
-/// 0.380; with every vertex walked down to 1.1°, 0.2 mm off exact at 12k triangles where
-/// turning is 0.05).
-const SHARP_COSINE: Real = 0.998;
 /// How far (in mean edge lengths) a source offered across an edge may fall short of the
 /// distance settled at the edge's other end before the offer is refused (see
 /// [`Solver::offer`]): far above the differences between neighbours' sources on smooth
@@ -324,15 +316,17 @@ impl Rotation {
     }
 }
 
-/// Whether the segment `a → c` crosses the segment `0 → e` (all in one plane, normal `n`;
-/// touching at an end counts, within [`CROSSING_TOLERANCE`]).
-fn crosses(a: &Vector3, c: &Vector3, e: &Vector3, n: &Vector3) -> bool {
-    let side = |p: &Vector3, q: &Vector3, x: &Vector3| (q - p).cross(&(x - p)).dot(n);
-    let o = Vector3::zeros();
-    let scale = a.norm().max(c.norm()).max(e.norm());
-    let z = CROSSING_TOLERANCE * scale * scale;
-    let apart = |x: Real, y: Real| !((x > z && y > z) || (x < -z && y < -z));
-    apart(side(&o, e, a), side(&o, e, c)) && apart(side(a, c, &o), side(a, c, e))
+/// The corners of triangle `tri` after its corner `u`, in order.
+#[inline(always)]
+fn corners_after(tri: [u32; 3], u: usize) -> (usize, usize) {
+    let (p, q) = if tri[0] as usize == u {
+        (tri[1], tri[2])
+    } else if tri[1] as usize == u {
+        (tri[2], tri[0])
+    } else {
+        (tri[0], tri[1])
+    };
+    (p as usize, q as usize)
 }
 
 /// A 4-ary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
@@ -437,10 +431,10 @@ pub(super) struct Solver<'a> {
     heap: Queue,
     /// Vertices settled after all their neighbours (local maxima of the distance).
     pub(super) maxima: Vec<u32>,
-    /// The source of the vertex being settled unfolded around it (see [`Self::walk_fan`]):
+    /// The source of the vertex being settled unfolded around it (see `fan_walk.rs`):
     /// face, the corner it reaches there, the source in that face's plane.
     walked: Vec<(u32, u32, Virtual)>,
-    /// Scratch of [`Self::walk_fan`]: the edges it crossed, laid out in one plane.
+    /// Scratch of the walk round a vertex: the edges it crossed, laid out in one plane.
     crossed: Vec<Vector3>,
     /// For a source of vertices only: the source vertex each vertex's source comes from
     /// (an index into [`Self::origins`]); empty otherwise.
@@ -595,12 +589,6 @@ impl<'a> Solver<'a> {
         if !(within.contains(&lambda) && within.contains(&tau)) {
             return None;
         }
-        // The source reaches the crossed edge, so it must not offer its settled other end
-        // less than that end has: where it does, it is an unfolding carried past a cone
-        // vertex (a coarse convex corner) on the wrong side, and it falls short of every
-        // path on the surface (no paper: Dijkstra's minimum picks exactly such offers, and
-        // on a coarse wing-body mesh they took a point source's distances 0.6 m below the
-        // exact ones at 7 m, below the straight line).
         // No path from a source vertex is shorter than the straight line from it: an offer
         // below it is an unfolding carried round a sharp edge past where it held (the
         // trailing edge of a coarse wing: 8 m short at 25 m on a BWB model).
@@ -612,9 +600,15 @@ impl<'a> Solver<'a> {
                 return None;
             }
         }
-        // Checked for point sources: a segment's foot at the other end would cost more (7 %
-        // on the bench's 500k cap in WebAssembly), and the pieces of a source curve lie near
-        // the vertices they serve, with no cone vertex between.
+        // The source reaches the crossed edge, so it must not offer its settled other end
+        // less than that end has: where it does, it is an unfolding carried past a cone
+        // vertex (a coarse convex corner) on the wrong side, and it falls short of every
+        // path on the surface (no paper: Dijkstra's minimum picks exactly such offers, and
+        // on a coarse wing-body mesh they took a point source's distances 0.6 m below the
+        // exact ones at 7 m, below the straight line). Checked for point sources: a
+        // segment's foot at the other end would cost more (7 % on the bench's 500k cap in
+        // WebAssembly), and the pieces of a source curve lie near the vertices they serve,
+        // with no cone vertex between.
         if s.p == s.q && self.settled[other] {
             let po = pos[other];
             let short = self.dist[other] - CONSISTENCY * self.surface.mean_edge;
@@ -623,109 +617,6 @@ impl<'a> Solver<'a> {
             }
         }
         Some(d)
-    }
-
-    /// Whether the faces around `u` bend away from `face` (the plane of its source) by more
-    /// than [`SHARP_COSINE`] allows, so that turning the source about `u` is not close enough
-    /// to unfolding it across the faces between.
-    #[inline(always)]
-    fn is_sharp(&self, u: usize, face: usize) -> bool {
-        let normals = &self.surface.face_normals;
-        let n0 = normals[face];
-        self.surface
-            .faces_of(u)
-            .iter()
-            .any(|&t| n0.dot(&normals[t as usize]) < SHARP_COSINE)
-    }
-
-    /// Unfolds the point source of settled `u` face by face around `u`, both ways from the
-    /// face it lies in, and lists in [`Self::walked`] each face whose new corner `c` the
-    /// straight way from the source reaches across every edge walked (laid out in the first
-    /// face's plane), with the source unfolded into that face's plane. `false` when the
-    /// source gives no direction at `u` (it lies on `u`, or outside the corner of its face
-    /// at `u`): then it is turned as on smooth surfaces.
-    #[inline(always)]
-    fn walk_fan(&mut self, u: usize) -> bool {
-        self.walked.clear();
-        let surface = self.surface;
-        let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
-        let normals = &surface.face_normals;
-        let su = self.src[u];
-        let (pu, f0) = (pos[u], su.face as usize);
-        let n0 = normals[f0];
-        let dir = foot(&pu, &su.p, &su.q, &su.run_on, &n0, self.reach) - pu;
-        let tol = 1e-9 * surface.mean_edge;
-        let t0 = tris[f0];
-        let Some(k) = t0.iter().position(|&w| w as usize == u) else {
-            return false;
-        };
-        let (a, b) = (t0[(k + 1) % 3] as usize, t0[(k + 2) % 3] as usize);
-        // The ray reaches u from inside the corner of its face (u was offered it across the
-        // opposite edge; along an edge, within rounding, when it came from the vertex at its
-        // other end); a seeded source need not.
-        let (ua, ub) = (pos[a] - pu, pos[b] - pu);
-        let slack = CROSSING_TOLERANCE * dir.norm();
-        if dir.norm_squared() <= tol * tol
-            || dir.cross(&ub).dot(&n0) < -slack * ub.norm()
-            || ua.cross(&dir).dot(&n0) < -slack * ua.norm()
-        {
-            return false;
-        }
-        let fan = surface.faces_of(u).len();
-        // Counter-clockwise across edge (b, u), then clockwise across edge (u, a).
-        for first in [b, a] {
-            let (mut f, mut edge, mut n, mut s) = (f0, first, n0, su);
-            // The faces walked laid out in the plane of the first about u: the rotation back
-            // from the current face's plane, the edges crossed (from u).
-            let mut back = nalgebra::Matrix3::<Real>::identity();
-            self.crossed.clear();
-            self.crossed.push(pos[first] - pu);
-            // One face a step, never back to the first: at most once round the fan.
-            for _ in 0..fan {
-                let t = tris[f];
-                let Some(slot) = (0..3).find(|&j| {
-                    let (v, w) = (t[j] as usize, t[(j + 1) % 3] as usize);
-                    (v == u && w == edge) || (v == edge && w == u)
-                }) else {
-                    break;
-                };
-                let Some(g) = surface.across(f, slot) else {
-                    break;
-                };
-                if g == f0 {
-                    break;
-                }
-                let tg = tris[g];
-                let Some(c) = tg
-                    .iter()
-                    .map(|&w| w as usize)
-                    .find(|&w| w != u && w != edge)
-                else {
-                    break;
-                };
-                let ng = normals[g];
-                let r = Rotation::new(&n, &ng);
-                if r.c <= FOLD_COSINE {
-                    break;
-                }
-                s = self.turned(&s, u, g, &r);
-                back *= nalgebra::Matrix3::from_columns(&[
-                    r.unapply(Vector3::x()),
-                    r.unapply(Vector3::y()),
-                    r.unapply(Vector3::z()),
-                ]);
-                let cc = back * (pos[c] - pu);
-                // The straight way from the source to c crosses every edge walked within it
-                // (else it leaves the fan and unfolds nothing real).
-                let from = foot(&(pu + cc), &su.p, &su.q, &su.run_on, &n0, self.reach) - pu;
-                if self.crossed.iter().all(|e| crosses(&from, &cc, e, &n0)) {
-                    self.walked.push((g as u32, c as u32, s));
-                }
-                self.crossed.push(cc);
-                (f, edge, n) = (g, c, ng);
-            }
-        }
-        true
     }
 
     fn bends_at(&mut self, u: usize) -> bool {
@@ -771,77 +662,6 @@ impl<'a> Solver<'a> {
         }
     }
 
-    /// Settles `u` by [`Self::settle_walked`] if the faces around it are sharp (see
-    /// [`Self::is_sharp`]) and its point source gives a direction there; `false` when it is
-    /// left to [`Self::settle`]. Out of line, to keep the common case's code tight.
-    #[inline(never)]
-    fn settled_walking(&mut self, u: usize) -> bool {
-        let walk = self.is_sharp(u, self.src[u].face as usize) && self.walk_fan(u);
-        if walk {
-            self.settle_walked(u);
-        }
-        walk
-    }
-
-    /// [`Self::settle`] at a sharp vertex, its point source unfolded by [`Self::walk_fan`]:
-    /// each neighbour is offered the source as unfolded into the face between (or as it is,
-    /// in the source's own face), else the other corner's source, else the bend at `u`.
-    #[inline(always)]
-    fn settle_walked(&mut self, u: usize) {
-        let surface = self.surface;
-        let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
-        let su = self.src[u];
-        let (pu, du) = (pos[u], self.dist[u]);
-        let mut open = false;
-        for &t in surface.faces_of(u) {
-            let t = t as usize;
-            let tri = tris[t];
-            let k = (0..3).find(|&k| tri[k] as usize == u).unwrap_or(0);
-            let (p, q) = (tri[(k + 1) % 3] as usize, tri[(k + 2) % 3] as usize);
-            if self.settled[p] && self.settled[q] {
-                continue;
-            }
-            open = true;
-            for (x, y) in [(p, q), (q, p)] {
-                if self.settled[x] {
-                    continue;
-                }
-                let mut best: Option<(Real, Virtual)> = None;
-                if su.face as usize == t {
-                    best = self.offer(&su, t, x, u, y, y).map(|d| (d, su));
-                } else {
-                    for i in 0..self.walked.len() {
-                        let (g, c, s) = self.walked[i];
-                        if g as usize == t && c as usize == x {
-                            if let Some(d) = self.offer(&s, t, x, u, y, y) {
-                                if best.is_none_or(|(b, _)| d < b) {
-                                    best = Some((d, s));
-                                }
-                            }
-                        }
-                    }
-                }
-                let mut giver = u;
-                if best.is_none() && self.settled[y] {
-                    best = self
-                        .moved(y, t)
-                        .and_then(|s| Some((self.offer(&s, t, x, u, y, u)?, s)));
-                    giver = y;
-                }
-                // The bend at u where nothing shorter reaches x (here the source offered may
-                // be the other corner's, not bounded by it).
-                let direct = du + (pos[x] - pu).norm();
-                match best {
-                    Some((d, s)) if d <= direct => self.improve_from(x, d, s, giver),
-                    _ => self.improve_from(x, direct, Virtual::point(pu, du, t as u32), u),
-                }
-            }
-        }
-        if !open && !surface.faces_of(u).is_empty() {
-            self.maxima.push(u as u32);
-        }
-    }
-
     /// Settled `u` offers its neighbours in every face around it.
     fn settle(&mut self, u: usize) {
         let surface = self.surface;
@@ -850,29 +670,14 @@ impl<'a> Solver<'a> {
         let mut open = false;
         let su = self.src[u];
         let (pu, du) = (pos[u], self.dist[u]);
-        // Where the faces around u bend sharply (a crease, a coarse corner, the saddle of a
-        // wing root), turning u's source about u misplaces it by up to the angle defect of
-        // the faces between times its distance, and offers fall short (0.34 m at 1.8 m on a
-        // thin box of an airliner model, a drift of millimetres a step along a wing root):
-        // a point source is unfolded across those faces
-        // instead, and offered only where its straight way crosses them (no paper). A
-        // segment's rays to the fan leave it from different points, most not passing u: it
-        // is turned as before.
+        // Where the faces around u bend sharply, a point source is unfolded around u instead
+        // of turned about it (see `fan_walk.rs`).
         if su.p == su.q && self.settled_walking(u) {
             return;
         }
         for &t in surface.faces_of(u) {
             let t = t as usize;
-            let tri = mesh.triangles()[t];
-            // The corners after u, in order (u is a corner of t).
-            let (p, q) = if tri[0] as usize == u {
-                (tri[1], tri[2])
-            } else if tri[1] as usize == u {
-                (tri[2], tri[0])
-            } else {
-                (tri[0], tri[1])
-            };
-            let (p, q) = (p as usize, q as usize);
+            let (p, q) = corners_after(mesh.triangles()[t], u);
             if self.settled[p] && self.settled[q] {
                 continue;
             }
