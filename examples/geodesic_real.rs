@@ -159,9 +159,10 @@ fn main() {
         }
         if let Some((_, e)) = fields.iter().find(|(n, _)| *n == "exact") {
             for (name, d) in &fields {
-                let (mut m, mut w, mut sum, mut n) = (0.0, 0, 0.0, 0);
+                let (mut m, mut w, mut sum, mut n, mut short) = (0.0, 0, 0.0, 0, 0.0 as Real);
                 for v in 0..p.len() {
                     if used[v] && e[v].is_finite() {
+                        short = short.max(e[v] - d[v]);
                         let x = (d[v] - e[v]).abs();
                         sum += x;
                         n += 1;
@@ -172,7 +173,7 @@ fn main() {
                     }
                 }
                 println!(
-                    "  {name:>8} vs exact: max {m:.3} (v{w}: {:.2} vs {:.2}; lower {:.2}, upper {:.2}), mean {:.4}",
+                    "  {name:>8} vs exact: max {m:.3} (v{w}: {:.2} vs {:.2}; lower {:.2}, upper {:.2}), mean {:.4}, short by {short:.3} at most",
                     d[w], e[w], lower[w], upper[w], sum / n as Real
                 );
             }

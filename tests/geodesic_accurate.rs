@@ -536,6 +536,80 @@ fn point_sources_on_boxes_never_undercut_the_exact_distance() {
     }
 }
 
+/// A closed can of radius 1 and height `h` around z with `around` sides, its caps in `caps`
+/// rings, its side in `rings`; each ring turned by `twist` radians from the one before (the
+/// side's quads then fold along their diagonals, and the rim is a crease of varying angle).
+fn can(around: usize, caps: usize, rings: usize, h: Real, twist: Real) -> Shape {
+    let rows = 2 * caps + rings;
+    let (p, t) = grid(around, rows, true, |u, v| {
+        let j = (v * rows as Real).round() as usize;
+        let (r, z) = if j <= caps {
+            (j as Real / caps as Real, 0.0)
+        } else if j <= caps + rings {
+            (1.0, h * (j - caps) as Real / rings as Real)
+        } else {
+            ((rows - j) as Real / caps as Real, h)
+        };
+        let a = 2.0 * PI * u + twist * j as Real;
+        Point3::new(r * libm::cos(a), r * libm::sin(a), z)
+    });
+    // The rings of radius 0 are the caps' centres: one vertex each, their faces dropped.
+    let (mut pos, mut ids) = (Vec::new(), std::collections::HashMap::new());
+    let map: Vec<u32> = p
+        .iter()
+        .map(|q| {
+            let key = [q.x, q.y, q.z].map(|x| (x * 1e9).round() as i64);
+            *ids.entry(key).or_insert_with(|| {
+                pos.push(*q);
+                pos.len() as u32 - 1
+            })
+        })
+        .collect();
+    let tri = t
+        .iter()
+        .map(|t| t.map(|v| map[v as usize]))
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
+        .collect();
+    shape(pos, tri)
+}
+
+#[test]
+fn point_sources_over_the_rim_of_twisted_cans_keep_near_the_exact_distance() {
+    // Paths from the cap cross its rim, a crease of 90° whose vertices have large angle
+    // defects (cones), onto a side whose faces fold. A point source unfolded round a rim
+    // vertex holds only for the rays between the rim vertices (its wedge), and a settled rim
+    // vertex's source is not turned about it to be offered again (it was offered unfolded):
+    // before both, the accurate distances fell up to 0.146 below exact on the 7-sided can
+    // (radius 1, edges about 0.5) and 0.030 below on the 16-sided one. What is left below
+    // comes from the folds of the side, each within the misplacement the wedges allow (half
+    // a mean edge); bends where no unfolded ray reaches a vertex run long instead.
+    for (name, s, most_below) in [
+        ("7 sides", can(7, 2, 3, 0.7, 0.2), 0.075),
+        ("16 sides", can(16, 3, 5, 1.0, 0.1), 0.01),
+    ] {
+        for src in [0, 5, 17, 40] {
+            let source = GeodesicSource::Vertices(vec![src]);
+            let e = distance(&s, &source, Method::Exact).vertex_distance;
+            let a = distance(&s, &source, Method::Accurate).vertex_distance;
+            check_field(&s, &a);
+            let off = a
+                .iter()
+                .zip(&e)
+                .map(|(a, e)| (a - e).abs())
+                .fold(0.0, Real::max);
+            let below = a.iter().zip(&e).map(|(a, e)| e - a).fold(0.0, Real::max);
+            eprintln!(
+                "can of {name} from v{src}: max |accurate − exact| {off:.4}, below {below:.4}"
+            );
+            assert!(
+                below < most_below,
+                "can of {name} from v{src}: {below} below exact"
+            );
+            assert!(off < 0.2, "can of {name} from v{src}: {off} off exact");
+        }
+    }
+}
+
 /// The largest patches of the real aircraft meshes, segmented with the paper's parameters,
 /// their boundary as the source: against independent bounds (no path on the surface is shorter
 /// than the straight line to the nearest boundary point) and against the exact method.

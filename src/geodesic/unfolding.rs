@@ -271,11 +271,9 @@ pub(crate) fn propagate(
     Ok(dist)
 }
 
-/// Vertices with a total face angle above 2π (saddles) or on the boundary of the active
-/// faces: the only vertices a shortest path may bend at.
-/// Whether shortest paths may bend at `v`: a boundary vertex, or one whose angles sum to
-/// more than 2π (a saddle). The per-vertex form of [`saddle_or_boundary_vertices`].
-pub(super) fn is_saddle_or_boundary(surface: &Surface, v: usize) -> bool {
+/// The sum of the face angles at `v`, `None` when `v` lies on the boundary of the active
+/// faces.
+pub(super) fn angle_sum(surface: &Surface, v: usize) -> Option<Real> {
     let mesh = surface.mesh;
     let mut angle = 0.0;
     for &f in surface.faces_of(v) {
@@ -284,13 +282,22 @@ pub(super) fn is_saddle_or_boundary(surface: &Surface, v: usize) -> bool {
         let p = mesh.corners(f);
         let k = t.iter().position(|&x| x as usize == v).unwrap_or(0);
         if surface.across(f, k).is_none() || surface.across(f, (k + 2) % 3).is_none() {
-            return true;
+            return None;
         }
         angle += angle_between(&(p[(k + 1) % 3] - p[k]), &(p[(k + 2) % 3] - p[k]));
     }
-    angle > 2.0 * std::f64::consts::PI * (1.0 + FLAT_VERTEX_TOLERANCE)
+    Some(angle)
 }
 
+/// Whether shortest paths may bend at `v`: a boundary vertex, or one whose angles sum to
+/// more than 2π (a saddle). The per-vertex form of [`saddle_or_boundary_vertices`].
+pub(super) fn is_saddle_or_boundary(surface: &Surface, v: usize) -> bool {
+    angle_sum(surface, v)
+        .is_none_or(|angle| angle > 2.0 * std::f64::consts::PI * (1.0 + FLAT_VERTEX_TOLERANCE))
+}
+
+/// Vertices with a total face angle above 2π (saddles) or on the boundary of the active
+/// faces: the only vertices a shortest path may bend at.
 pub(super) fn saddle_or_boundary_vertices(surface: &Surface) -> Vec<bool> {
     let mesh = surface.mesh;
     let nv = mesh.vertex_count();

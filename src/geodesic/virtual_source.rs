@@ -23,13 +23,14 @@
 //!         boundary keep to the exact method within a mean 0.009 of an edge and never fall
 //!         more than 0.011 of an edge below the straight line (a test checks it). A point
 //!         source carried across a whole coarse model is unfolded exactly at its creases,
-//!         refused where it runs past a cone vertex on the wrong side (see
-//!         `fan_walk.rs`, [`CONSISTENCY`]), and never offers less than the straight
-//!         line from its source vertex (see [`Solver::floor`]): from vertex 0, largest / mean
-//!         error against the exact method on a wing-body model (5 cm edges) 0.28 / 0.020 m at
-//!         up to 10 m (the fast method 0.013 / 0.005), on an airliner 0.016 / 0.002 m, on a
-//!         BWB model with metre-long edges 1.05 / 0.19 m (a test checks the line and the
-//!         mean on three models). Measured (`npm run
+//!         held there to the wedge of rays the unfolding is right for (beyond it the path
+//!         bends at the wedge's side), refused where it runs past a cone vertex on the wrong
+//!         side (see `fan_walk.rs`, `wedge.rs`, [`CONSISTENCY`]), and never offers less than
+//!         the straight line from its source vertex (see [`Solver::floor`]): from vertex 0,
+//!         largest / mean error against the exact method on a wing-body model (5 cm edges)
+//!         0.027 / 0.003 m at up to 10 m (the fast method 0.013 / 0.005), on an airliner
+//!         0.009 / 0.001 m, on a BWB model with metre-long edges 1.05 / 0.19 m (a test checks
+//!         the line and the mean on three models). Measured (`npm run
 //!         bench -- geodesic`: WebAssembly in Node beside native fast marching, potpourri3d
 //!         1.4.0; max / mean error in mm against the analytic distance): cap R 1000 from its
 //!         rim, 500k triangles 0.0062 / 0.0009, 2M 0.0031 / 0.0002 (fast marching 1.8 / 0.10
@@ -71,6 +72,7 @@
 //!     paths bend; an upper bound elsewhere).
 
 mod fan_walk;
+mod wedge;
 
 use super::focal;
 use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
@@ -79,6 +81,7 @@ use super::surface::{segment_distance, Surface};
 use super::unfolding::is_saddle_or_boundary;
 use super::unfolding::Entry;
 use crate::math::{Point3, Real, Vector3};
+use wedge::Wedge;
 
 /// Relative slack (of the edge length) for a ray crossing an edge at or near its ends.
 const CROSSING_TOLERANCE: Real = 1e-9;
@@ -104,6 +107,26 @@ const STRAIGHT: Real = 1e-9;
 /// meshes (the bench's caps and spheres never come near it), far below the shortfall of an
 /// unfolding taken past a cone vertex on the wrong side on a coarse real mesh.
 const CONSISTENCY: Real = 1e-2;
+/// What [`Solver::offer`] offers: the distance along the ray from the source, or, where the
+/// ray leaves the wedge the source holds in (see `wedge.rs`), the path bending at its side,
+/// with a point source there.
+#[derive(Clone, Copy)]
+enum Offered {
+    Ray(Real),
+    Bend(Real, Virtual),
+}
+
+impl Offered {
+    /// The distance and the source `x` would take from `giver`, whose source is `s`.
+    #[inline(always)]
+    fn of(self, s: Virtual, giver: usize) -> (Real, Virtual, usize) {
+        match self {
+            Offered::Ray(d) => (d, s, giver),
+            Offered::Bend(d, bend) => (d, bend, giver),
+        }
+    }
+}
+
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
 /// Relative slack of the lower bound on an offer (far above the rounding of the offer).
@@ -432,10 +455,18 @@ pub(super) struct Solver<'a> {
     /// Vertices settled after all their neighbours (local maxima of the distance).
     pub(super) maxima: Vec<u32>,
     /// The source of the vertex being settled unfolded around it (see `fan_walk.rs`):
-    /// face, the corner it reaches there, the source in that face's plane.
-    walked: Vec<(u32, u32, Virtual)>,
+    /// face, the corner it reaches there, the source in that face's plane, the wedge of rays
+    /// it holds for (measured from the ray to the vertex).
+    walked: Vec<(u32, u32, Virtual, Wedge)>,
     /// Scratch of the walk round a vertex: the edges it crossed, laid out in one plane.
     crossed: Vec<Vector3>,
+    /// The far vertices of [`Self::crossed`].
+    crossed_to: Vec<u32>,
+    /// The wedge each vertex's point source holds in (see `wedge.rs`); empty until a walk
+    /// bounds one.
+    wedge: Vec<Wedge>,
+    /// |Angle defect| per vertex, NaN until asked (see `wedge.rs`); empty until then.
+    defect: Vec<f32>,
     /// For a source of vertices only: the source vertex each vertex's source comes from
     /// (an index into [`Self::origins`]); empty otherwise.
     origin: Vec<u32>,
@@ -459,6 +490,9 @@ impl<'a> Solver<'a> {
             maxima: Vec::new(),
             walked: Vec::new(),
             crossed: Vec::new(),
+            crossed_to: Vec::new(),
+            wedge: Vec::new(),
+            defect: Vec::new(),
             origin: Vec::new(),
             origins: Vec::new(),
         }
@@ -564,15 +598,16 @@ impl<'a> Solver<'a> {
         a: usize,
         b: usize,
         other: usize,
-    ) -> Option<Real> {
-        let pos = self.surface.mesh.positions();
+    ) -> Option<Offered> {
+        let surface = self.surface;
+        let pos = surface.mesh.positions();
         let (px, pa, pb) = (pos[x], pos[a], pos[b]);
-        let n = &self.surface.face_normals[t];
+        let n = &surface.face_normals[t];
         let f = foot(&px, &s.p, &s.q, &s.run_on, n, self.reach);
         let w = px - f;
         let d = s.sigma + w.norm();
         if d >= self.dist[x] {
-            return Some(d);
+            return Some(Offered::Ray(d));
         }
         let e = pb - pa;
         let den = e.cross(&w).dot(n);
@@ -589,15 +624,33 @@ impl<'a> Solver<'a> {
         if !(within.contains(&lambda) && within.contains(&tau)) {
             return None;
         }
+        // A point source walked round a sharp vertex holds only in its wedge (see `wedge.rs`);
+        // beyond it, the path bends at the wedge's side, held to the same checks.
+        let giver = if other == b { a } else { b };
+        if !self.wedge.is_empty() && s.p == s.q && !self.wedge[giver].is_open() {
+            if let Some(bend) = self.beyond_wedge(s, t, &px, giver, other, n) {
+                return bend;
+            }
+        }
+        if !self.holds(d, s, &px, giver, other) {
+            return None;
+        }
+        Some(Offered::Ray(d))
+    }
+
+    /// Whether distance `d` offered to the vertex at `px` by source `s`, handed on by `giver`
+    /// across an edge whose other end is `other`, keeps to the straight line from the source
+    /// vertex and to the distance settled at `other`.
+    #[inline(always)]
+    fn holds(&self, d: Real, s: &Virtual, px: &Point3, giver: usize, other: usize) -> bool {
         // No path from a source vertex is shorter than the straight line from it: an offer
         // below it is an unfolding carried round a sharp edge past where it held (the
         // trailing edge of a coarse wing: 8 m short at 25 m on a BWB model).
         if !self.origin.is_empty() {
-            let giver = if other == b { a } else { b };
             let o = self.origins[self.origin[giver] as usize];
             let reach = d * (1.0 + BOUND_SLACK) + BOUND_SLACK * self.surface.mean_edge;
             if reach * reach < (px - o).norm_squared() {
-                return None;
+                return false;
             }
         }
         // The source reaches the crossed edge, so it must not offer its settled other end
@@ -610,13 +663,13 @@ impl<'a> Solver<'a> {
         // WebAssembly), and the pieces of a source curve lie near the vertices they serve,
         // with no cone vertex between.
         if s.p == s.q && self.settled[other] {
-            let po = pos[other];
+            let po = self.surface.mesh.positions()[other];
             let short = self.dist[other] - CONSISTENCY * self.surface.mean_edge;
             if s.sigma + (po - s.p).norm() < short {
-                return None;
+                return false;
             }
         }
-        Some(d)
+        true
     }
 
     fn bends_at(&mut self, u: usize) -> bool {
@@ -657,8 +710,20 @@ impl<'a> Solver<'a> {
     /// `x` then shares).
     #[inline(always)]
     fn improve_from(&mut self, x: usize, d: Real, s: Virtual, giver: usize) {
-        if self.improve(x, d, s) && !self.origin.is_empty() {
-            self.origin[x] = self.origin[giver];
+        self.improve_walked(x, d, s, giver, &Wedge::OPEN);
+    }
+
+    /// [`Self::improve_from`] with the source unfolded round `giver` by a walk, which holds
+    /// only within `walked` (see `wedge.rs`; open for any other source).
+    #[inline(always)]
+    fn improve_walked(&mut self, x: usize, d: Real, s: Virtual, giver: usize, walked: &Wedge) {
+        if self.improve(x, d, s) {
+            if !self.origin.is_empty() {
+                self.origin[x] = self.origin[giver];
+            }
+            if !self.wedge.is_empty() {
+                self.pass_wedge(x, &s, giver, walked);
+            }
         }
     }
 
@@ -729,13 +794,13 @@ impl<'a> Solver<'a> {
                         (c > FOLD_COSINE).then(|| self.turned(&su, u, t, &r))
                     }
                 });
-                let mut best = from_u.and_then(|s| Some((self.offer(&s, t, x, u, y, y)?, s, u)));
+                let mut best = from_u.and_then(|s| Some(self.offer(&s, t, x, u, y, y)?.of(s, u)));
                 // A settled y offered its own source to x across the same edge when it was
                 // settled; it matters again only as the alternative to a bend at u.
                 if best.is_none() && self.settled[y] {
                     best = self
-                        .moved(y, t)
-                        .and_then(|s| Some((self.offer(&s, t, x, u, y, u)?, s, y)));
+                        .handed_on(y, t)
+                        .and_then(|s| Some(self.offer(&s, t, x, u, y, u)?.of(s, y)));
                 }
                 // The path bending at u: a new point source there (exact at saddle and
                 // boundary vertices; elsewhere only when no unfolded ray reaches x).
@@ -943,9 +1008,12 @@ pub(crate) fn propagate(
     let pos = mesh.positions();
     let nv = mesh.vertex_count();
     // Worst case: a source, distance, two flags, a queue entry and its index, the source
-    // vertex it comes from per vertex,
+    // vertex it comes from, a wedge and a cached angle defect (see `wedge.rs`) per vertex,
     // the face normals (held by the surface) and the focal patches.
-    let per_vertex = std::mem::size_of::<Virtual>() + std::mem::size_of::<Entry>() + 18;
+    let per_vertex = std::mem::size_of::<Virtual>()
+        + std::mem::size_of::<Entry>()
+        + std::mem::size_of::<Wedge>()
+        + 22;
     let bytes = nv as u64 * per_vertex as u64
         + mesh.triangle_count() as u64 * std::mem::size_of::<Vector3>() as u64
         + focal::budget(surface.faces.len()) as u64 * focal::BYTES_PER_FACE;
