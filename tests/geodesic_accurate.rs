@@ -470,6 +470,40 @@ fn plane_section_source_is_accurate_on_its_convex_side_too() {
     }
 }
 
+/// From vertex `src`, the largest |accurate − exact| and the most the accurate distance falls
+/// below exact (the accurate field checked as a field first).
+fn against_exact(s: &Shape, src: u32) -> (Real, Real) {
+    let source = GeodesicSource::Vertices(vec![src]);
+    let e = distance(s, &source, Method::Exact).vertex_distance;
+    let a = distance(s, &source, Method::Accurate).vertex_distance;
+    check_field(s, &a);
+    let off = a
+        .iter()
+        .zip(&e)
+        .map(|(a, e)| (a - e).abs())
+        .fold(0.0, Real::max);
+    let below = a.iter().zip(&e).map(|(a, e)| e - a).fold(0.0, Real::max);
+    (off, below)
+}
+
+/// The index in `pos` of each of `points`, points at the same place (to 1e-6) made one.
+fn weld(
+    points: &[Point3],
+    pos: &mut Vec<Point3>,
+    ids: &mut std::collections::HashMap<[i64; 3], u32>,
+) -> Vec<u32> {
+    points
+        .iter()
+        .map(|q| {
+            let key = [q.x, q.y, q.z].map(|x| (x * 1e6).round() as i64);
+            *ids.entry(key).or_insert_with(|| {
+                pos.push(*q);
+                pos.len() as u32 - 1
+            })
+        })
+        .collect()
+}
+
 /// A closed box `a × b × c` (a thin plate when `c` is small), each face an `n × n` grid,
 /// vertices shared along its edges, outward.
 fn boxed(a: Real, b: Real, c: Real, n: usize) -> Shape {
@@ -491,16 +525,7 @@ fn boxed(a: Real, b: Real, c: Real, n: usize) -> Shape {
                 o[2] + u * e1[2] + v * e2[2],
             )
         });
-        let map: Vec<u32> = p
-            .iter()
-            .map(|q| {
-                let key = [q.x, q.y, q.z].map(|x| (x * 1e6).round() as i64);
-                *ids.entry(key).or_insert_with(|| {
-                    pos.push(*q);
-                    pos.len() as u32 - 1
-                })
-            })
-            .collect();
+        let map = weld(&p, &mut pos, &mut ids);
         tri.extend(t.iter().map(|t| t.map(|v| map[v as usize])));
     }
     shape(pos, tri)
@@ -519,16 +544,7 @@ fn point_sources_on_boxes_never_undercut_the_exact_distance() {
         ("cube 8", boxed(1.0, 1.0, 1.0, 8), 0.03),
     ] {
         for src in [0, 1, 5] {
-            let source = GeodesicSource::Vertices(vec![src]);
-            let e = distance(&s, &source, Method::Exact).vertex_distance;
-            let a = distance(&s, &source, Method::Accurate).vertex_distance;
-            check_field(&s, &a);
-            let off = a
-                .iter()
-                .zip(&e)
-                .map(|(a, e)| (a - e).abs())
-                .fold(0.0, Real::max);
-            let below = a.iter().zip(&e).map(|(a, e)| e - a).fold(0.0, Real::max);
+            let (off, below) = against_exact(&s, src);
             eprintln!("{name} from v{src}: max |accurate − exact| {off:.2e}, below {below:.2e}");
             assert!(below < 1e-9, "{name} from v{src}: {below} below exact");
             assert!(off <= max_off, "{name} from v{src}: {off} off exact");
@@ -555,16 +571,7 @@ fn can(around: usize, caps: usize, rings: usize, h: Real, twist: Real) -> Shape 
     });
     // The rings of radius 0 are the caps' centres: one vertex each, their faces dropped.
     let (mut pos, mut ids) = (Vec::new(), std::collections::HashMap::new());
-    let map: Vec<u32> = p
-        .iter()
-        .map(|q| {
-            let key = [q.x, q.y, q.z].map(|x| (x * 1e9).round() as i64);
-            *ids.entry(key).or_insert_with(|| {
-                pos.push(*q);
-                pos.len() as u32 - 1
-            })
-        })
-        .collect();
+    let map = weld(&p, &mut pos, &mut ids);
     let tri = t
         .iter()
         .map(|t| t.map(|v| map[v as usize]))
@@ -588,16 +595,7 @@ fn point_sources_over_the_rim_of_twisted_cans_keep_near_the_exact_distance() {
         ("16 sides", can(16, 3, 5, 1.0, 0.1), 0.01),
     ] {
         for src in [0, 5, 17, 40] {
-            let source = GeodesicSource::Vertices(vec![src]);
-            let e = distance(&s, &source, Method::Exact).vertex_distance;
-            let a = distance(&s, &source, Method::Accurate).vertex_distance;
-            check_field(&s, &a);
-            let off = a
-                .iter()
-                .zip(&e)
-                .map(|(a, e)| (a - e).abs())
-                .fold(0.0, Real::max);
-            let below = a.iter().zip(&e).map(|(a, e)| e - a).fold(0.0, Real::max);
+            let (off, below) = against_exact(&s, src);
             eprintln!(
                 "can of {name} from v{src}: max |accurate − exact| {off:.4}, below {below:.4}"
             );

@@ -111,12 +111,15 @@ impl Solver<'_> {
             self.defect = vec![f32::NAN; self.dist.len()];
         }
         if self.defect[v].is_nan() {
-            let angles = super::super::unfolding::angle_sum(self.surface, v);
-            self.defect[v] = angles.map_or(f32::INFINITY, |a| {
-                (2.0 * std::f64::consts::PI - a).abs() as f32
-            });
+            self.defect[v] = self.defect_uncached(v) as f32;
         }
         Real::from(self.defect[v])
+    }
+
+    /// |Angle defect| at `v` (`∞` on the boundary of the active faces).
+    fn defect_uncached(&self, v: usize) -> Real {
+        super::super::unfolding::angle_sum(self.surface, v)
+            .map_or(Real::INFINITY, |a| (2.0 * std::f64::consts::PI - a).abs())
     }
 
     /// Whether a point source at distance `reach` from `v`, unfolded on the wrong side of `v`
@@ -128,9 +131,7 @@ impl Solver<'_> {
 
     /// [`Self::misplaces`] without the cache.
     pub(super) fn misplaces_uncached(&self, v: usize, reach: Real) -> bool {
-        let defect = super::super::unfolding::angle_sum(self.surface, v)
-            .map_or(Real::INFINITY, |a| (2.0 * std::f64::consts::PI - a).abs());
-        defect * reach > DEFECT_REACH * self.surface.mean_edge
+        self.defect_uncached(v) * reach > DEFECT_REACH * self.surface.mean_edge
     }
 
     /// The wedge of the rays from the point source at `u + dir` (in the plane of normal `n`)
