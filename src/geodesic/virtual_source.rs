@@ -72,6 +72,8 @@
 //!     paths bend; an upper bound elsewhere).
 
 mod fan_walk;
+mod queue;
+mod seeding;
 mod wedge;
 
 use super::focal;
@@ -81,6 +83,7 @@ use super::surface::{segment_distance, Surface};
 use super::unfolding::is_saddle_or_boundary;
 use super::unfolding::Entry;
 use crate::math::{Point3, Real, Vector3};
+use queue::Queue;
 use wedge::Wedge;
 
 /// Relative slack (of the edge length) for a ray crossing an edge at or near its ends.
@@ -175,16 +178,16 @@ impl Virtual {
 /// the solver's `reach` and `c` a cotangent, both kept in one byte and rounded down.
 ///
 /// Why: beyond the end, up to `L` along the piece's line, the source curve keeps within the
-/// wedge between the line moved [`RUN_ON_TOLERANCE`] away from the vertex's side and the ray
-/// at angle `φ` (`cot φ = c`) towards it (checked on its samples, see [`source_pieces`]). Where
-/// `s ≤ h·cot φ` past the end, the curve then crosses the perpendicular from the vertex to
-/// the line no further from the vertex than the tolerance beyond the line, so the distance to
-/// the line, which the piece offers there, is never more than the tolerance below the
-/// distance to the curve. Where the curve turns away at its very next sample the piece does
-/// not run on for that side (see [`source_pieces`]). Run on regardless (by the full reach wherever the curve turned
-/// towards the vertex at the end), a piece offered distances up to 0.63 m too short on a
-/// real airliner patch, shorter than the straight line to the boundary: past a corner, a
-/// hairpin or a turn away further on.
+/// wedge between the line moved `RUN_ON_TOLERANCE` (in `seeding.rs`) away from the vertex's
+/// side and the ray at angle `φ` (`cot φ = c`) towards it (checked on its samples, see
+/// `source_pieces` in `seeding.rs`). Where `s ≤ h·cot φ` past the end, the curve then crosses
+/// the perpendicular from the vertex to the line no further from the vertex than the tolerance
+/// beyond the line, so the distance to the line, which the piece offers there, is never more
+/// than the tolerance below the distance to the curve. Where the curve turns away at its very
+/// next sample the piece does not run on for that side (see `seeding.rs`). Run on regardless
+/// (by the full reach wherever the curve turned towards the vertex at the end), a piece offered
+/// distances up to 0.63 m too short on a real airliner patch, shorter than the straight line to
+/// the boundary: past a corner, a hairpin or a turn away further on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct RunOn(u8);
 
@@ -350,95 +353,6 @@ fn corners_after(tri: [u32; 3], u: usize) -> (usize, usize) {
         (tri[0], tri[1])
     };
     (p as usize, q as usize)
-}
-
-/// A 4-ary min-heap of vertices keyed by `(distance, id)` with decrease-key: each vertex is
-/// in it once at most (a lazy heap holds about two entries a vertex and skips the stale).
-/// Four children a node halve the depth of a binary heap, and a pop reads them from one or
-/// two cache lines (no paper; a common choice for Dijkstra's queue). The order is total, so
-/// any heap pops the same sequence as the binary one did.
-struct Queue {
-    entries: Vec<Entry>,
-    /// Index of each vertex in `entries` (`u32::MAX`: not queued).
-    at: Vec<u32>,
-}
-
-/// Children per node of [`Queue`].
-const ARITY: usize = 4;
-
-impl Queue {
-    fn new(vertices: usize) -> Self {
-        Queue {
-            entries: Vec::new(),
-            at: vec![u32::MAX; vertices],
-        }
-    }
-
-    fn less(a: &Entry, b: &Entry) -> bool {
-        a.d.total_cmp(&b.d).then(a.v.cmp(&b.v)).is_lt()
-    }
-
-    fn place(&mut self, i: usize, e: Entry) {
-        self.at[e.v as usize] = i as u32;
-        self.entries[i] = e;
-    }
-
-    /// Queues `v` at `d`, or lowers its key to `d` (`d` is never higher than its key).
-    fn push_or_lower(&mut self, v: u32, d: Real) {
-        let e = Entry { d, v };
-        let mut i = match self.at[v as usize] {
-            u32::MAX => {
-                self.entries.push(e);
-                self.entries.len() - 1
-            }
-            i => i as usize,
-        };
-        // Sift up: each step divides i by ARITY, so at most log4(len) steps.
-        while i > 0 {
-            let parent = (i - 1) / ARITY;
-            if !Self::less(&e, &self.entries[parent]) {
-                break;
-            }
-            let moved = self.entries[parent];
-            self.place(i, moved);
-            i = parent;
-        }
-        self.place(i, e);
-    }
-
-    fn pop(&mut self) -> Option<Entry> {
-        let top = *self.entries.first()?;
-        self.at[top.v as usize] = u32::MAX;
-        let last = self.entries.pop()?;
-        if !self.entries.is_empty() {
-            // Sift down: each step multiplies i by ARITY, so at most log4(len) steps.
-            let (n, mut i) = (self.entries.len(), 0);
-            loop {
-                let first = ARITY * i + 1;
-                if first >= n {
-                    break;
-                }
-                let mut m = first;
-                for c in first + 1..(first + ARITY).min(n) {
-                    if Self::less(&self.entries[c], &self.entries[m]) {
-                        m = c;
-                    }
-                }
-                if !Self::less(&self.entries[m], &last) {
-                    break;
-                }
-                let child = self.entries[m];
-                self.place(i, child);
-                i = m;
-            }
-            self.place(i, last);
-        }
-        Some(top)
-    }
-
-    fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
 }
 
 pub(super) struct Solver<'a> {
@@ -820,184 +734,6 @@ impl<'a> Solver<'a> {
     }
 }
 
-/// Samples of the curve checked beyond the end of a piece, at most (the bound on the run-on
-/// then rests on them; past them, or past the end of an open curve, a piece does not run on).
-const RUN_ON_SAMPLES: usize = 32;
-/// How far (in reaches) the curve beyond a piece's end may stray from its line away from a
-/// vertex while the piece runs on for it: the most a run-on distance may fall short.
-const RUN_ON_TOLERANCE: Real = 3e-4;
-
-/// Pieces of a curve at most joined into one straight piece (see [`source_pieces`]).
-const STRAIGHT_PIECES: usize = 64;
-
-/// A straight piece of a source curve as the seeding hands it to vertices.
-#[derive(Clone, Copy)]
-struct SourcePiece {
-    p: Point3,
-    q: Point3,
-    run_on: [[RunOn; 2]; 2],
-}
-
-/// For each piece `j` of `curve` (from point `j` to the next): the straight run of pieces it
-/// belongs to (collinear neighbours within [`STRAIGHT`], up to [`STRAIGHT_PIECES`] each way:
-/// the sub-pieces of one boundary edge, or of one segment of a polyline, make one piece), and
-/// how far that may run on beyond each end, `[side][end]`: side 0 the vertices to the left of
-/// the piece (about the normal of the face under its first point), side 1 those to the
-/// right. The samples beyond an end up to `reach` along the piece's line give the bound (see
-/// [`RunOn`]). Joining the straight runs matters where an edge of the boundary is longer than
-/// the reach: a vertex beyond its end (past a corner of the boundary) is offered the corner
-/// by a neighbour that holds any part of the edge. Cost: O(pieces · ([`STRAIGHT_PIECES`] +
-/// [`RUN_ON_SAMPLES`])).
-fn source_pieces(
-    curve: &super::source::Curve,
-    normals: &[Vector3],
-    reach: Real,
-) -> Vec<SourcePiece> {
-    let n = curve.points.len();
-    let closed = curve.closed && n > 2;
-    let segs = if closed { n } else { n.saturating_sub(1) };
-    let pts = &curve.points;
-    // Point `i` of the curve (wrapped round a closed one), `None` past an open one's ends.
-    let at = |i: isize| -> Option<usize> {
-        if closed {
-            Some(i.rem_euclid(n as isize) as usize)
-        } else {
-            (0..n as isize).contains(&i).then_some(i as usize)
-        }
-    };
-    // Whether the curve goes straight on at point `k`.
-    let straight = |k: isize| -> bool {
-        let (Some(i0), Some(i1), Some(i2)) = (at(k - 1), at(k), at(k + 1)) else {
-            return false;
-        };
-        let (u0, u1) = (pts[i1] - pts[i0], pts[i2] - pts[i1]);
-        u0.dot(&u1) > 0.0 && u0.cross(&u1).norm() <= STRAIGHT * u0.norm() * u1.norm()
-    };
-    (0..segs)
-        .map(|j| {
-            // The run: points first..=last (indices unwrapped), never the whole of a closed
-            // curve.
-            let (mut first, mut last) = (j as isize, j as isize + 1);
-            while j as isize - first < STRAIGHT_PIECES as isize
-                && ((last - first) as usize) + 1 < n
-                && straight(first)
-            {
-                first -= 1;
-            }
-            while last - (j as isize + 1) < STRAIGHT_PIECES as isize
-                && ((last - first) as usize) + 1 < n
-                && straight(last)
-            {
-                last += 1;
-            }
-            let (a, b) = (pts[at(first).unwrap_or(j)], pts[at(last).unwrap_or(j)]);
-            let mut out = SourcePiece {
-                p: a,
-                q: b,
-                run_on: [[RunOn::NONE; 2]; 2],
-            };
-            let along = b - a;
-            let len = along.norm();
-            let normal = &normals[curve.faces[j] as usize];
-            let lateral = normal.cross(&along);
-            let lateral_len = lateral.norm();
-            if !(len > 0.0 && lateral_len > 0.0) {
-                return out;
-            }
-            let (dir, lateral) = (along / len, lateral / lateral_len);
-            for end in 0..2 {
-                let (origin, dir) = if end == 0 { (a, -dir) } else { (b, dir) };
-                // The samples beyond this end, nearest first (not round a closed curve into
-                // the run).
-                let pieces = (last - first) as usize;
-                let beyond = (1..=RUN_ON_SAMPLES).map_while(|k| {
-                    let i = if end == 0 {
-                        first - k as isize
-                    } else {
-                        last + k as isize
-                    };
-                    (pieces + k < n).then(|| at(i)).flatten().map(|i| pts[i])
-                });
-                // Per side: the smallest cotangent seen, how far along the curve stays
-                // within the tolerance of the line on the far side.
-                let band = RUN_ON_TOLERANCE * reach;
-                let mut cot = [Real::INFINITY; 2];
-                let mut length = [Real::INFINITY; 2];
-                let (mut prev, mut covered) = ((0.0, 0.0), 0.0);
-                let mut nearest = true;
-                for c in beyond {
-                    let w = c - origin;
-                    let (ahead, off) = (w.dot(&dir), w.dot(&lateral));
-                    for (side, sign) in [1.0, -1.0].into_iter().enumerate() {
-                        let (off, prev_off) = (sign * off, sign * prev.1);
-                        if length[side] < Real::INFINITY {
-                            continue;
-                        }
-                        // Where the curve turns away at once, its pieces' ends serve the
-                        // vertices there (running on would offer them less, and so settle
-                        // them before the pieces that are nearest reach them: 0.043 mm
-                        // too far at 2M triangles on the section of the cap, not 0.005).
-                        let tolerance = if nearest { STRAIGHT * w.norm() } else { band };
-                        if off < -tolerance {
-                            // The curve leaves the band between the previous sample and
-                            // this one; up to there it passed every position along the
-                            // line up to the furthest it reached.
-                            let crossing = prev.0
-                                + (ahead - prev.0) * (prev_off + tolerance) / (prev_off - off);
-                            length[side] = if crossing > covered {
-                                crossing
-                            } else {
-                                covered
-                            };
-                        } else if off > STRAIGHT * w.norm() {
-                            let c = ahead / off;
-                            if c < cot[side] {
-                                cot[side] = c;
-                            }
-                        }
-                    }
-                    if ahead > covered {
-                        covered = ahead;
-                    }
-                    prev = (ahead, off);
-                    nearest = false;
-                    if covered >= reach
-                        || (length[0] < Real::INFINITY && length[1] < Real::INFINITY)
-                    {
-                        break;
-                    }
-                }
-                for side in 0..2 {
-                    let length = if length[side] < covered {
-                        length[side]
-                    } else {
-                        covered
-                    };
-                    out.run_on[side][end] = if length >= reach && cot[side] == Real::INFINITY {
-                        RunOn::FREE
-                    } else {
-                        RunOn::new(length / reach, cot[side])
-                    };
-                }
-            }
-            out
-        })
-        .collect()
-}
-
-/// Whether vertex `v` lies on the boundary of the active faces (an edge at it has no active
-/// face across).
-fn on_boundary(surface: &Surface, v: usize) -> bool {
-    let tris = surface.mesh.triangles();
-    surface.faces_of(v).iter().any(|&g| {
-        let g = g as usize;
-        (0..3).any(|k| {
-            let (a, b) = (tris[g][k] as usize, tris[g][(k + 1) % 3] as usize);
-            (a == v || b == v) && surface.across(g, k).is_none()
-        })
-    })
-}
-
 /// Geodesic distance per vertex from `source` on the active faces.
 pub(crate) fn propagate(
     surface: &Surface,
@@ -1036,80 +772,7 @@ pub(crate) fn propagate(
         }
     }
     for curve in &source.curves {
-        let n = curve.points.len();
-        let segs = if curve.closed && n > 2 { n } else { n - 1 };
-        let pieces = source_pieces(curve, &surface.face_normals, s.reach);
-        let piece = |j: isize| -> Option<SourcePiece> {
-            let j = if n == 1 {
-                0
-            } else if curve.closed && n > 2 {
-                j.rem_euclid(segs as isize) as usize
-            } else if j < 0 || j as usize >= segs {
-                return None;
-            } else {
-                j as usize
-            };
-            Some(pieces.get(j).copied().unwrap_or(SourcePiece {
-                p: curve.points[j],
-                q: curve.points[(j + 1) % n],
-                run_on: [[RunOn::NONE; 2]; 2],
-            }))
-        };
-        let on_vertex = ON_VERTEX * surface.mean_edge;
-        for (i, &f) in curve.faces.iter().enumerate() {
-            let window = i as isize - SEED_WINDOW as isize..=(i + SEED_WINDOW) as isize;
-            for v in mesh.triangles()[f as usize] {
-                let v = v as usize;
-                let x = pos[v];
-                for piece in window.clone().filter_map(piece) {
-                    let (d, _) = segment_distance(&x, &piece.p, &piece.q);
-                    let seg = Virtual {
-                        p: piece.p,
-                        q: piece.q,
-                        sigma: 0.0,
-                        face: f,
-                        run_on: piece.run_on,
-                    };
-                    s.improve(v, d, seg);
-                }
-                // A sample on a vertex (a plane through a ring of vertices) lies in every
-                // face around it, not only in `f`: the corners of those faces are seeded
-                // too, with the pieces turned about the vertex into each face's plane (as
-                // the propagation would offer them), so no corner on the far side of the
-                // curve waits for a neighbour's piece that ends short of it (0.40 mm too far
-                // 3.5 mm from the section of the 500k cap through its ring at θ = 0.6).
-                // (On the boundary of the faces, as a boundary loop's samples are, every face
-                // around the vertex lies on the one side and the propagation serves them.)
-                if (curve.points[i] - x).norm() > on_vertex || on_boundary(surface, v) {
-                    continue;
-                }
-                let nf = surface.face_normals[f as usize];
-                for &g in surface.faces_of(v) {
-                    let g = g as usize;
-                    let r = Rotation::new(&nf, &surface.face_normals[g]);
-                    if g == f as usize || r.c <= FOLD_COSINE {
-                        continue;
-                    }
-                    for piece in window.clone().filter_map(piece) {
-                        let (p, q) = (x + r.apply(piece.p - x), x + r.apply(piece.q - x));
-                        for w in mesh.triangles()[g] {
-                            let w = w as usize;
-                            if w != v {
-                                let (d, _) = segment_distance(&pos[w], &p, &q);
-                                let seg = Virtual {
-                                    p,
-                                    q,
-                                    sigma: 0.0,
-                                    face: g as u32,
-                                    run_on: piece.run_on,
-                                };
-                                s.improve(w, d, seg);
-                            }
-                        }
-                    }
-                }
-            }
-        }
+        seeding::seed_curve(&mut s, curve);
     }
     if s.heap.is_empty() {
         return Err(GeodesicError::SourceMissesSurface(
@@ -1163,19 +826,6 @@ mod tests {
         // The axis n1 × n2 = y is fixed.
         let y = Vector3::new(0.0, 1.0, 0.0);
         assert!((rotate(y, &n1, &n2) - y).norm() < 1e-15);
-    }
-
-    #[test]
-    fn queue_pops_by_distance_then_id_and_lowers_keys() {
-        let mut q = Queue::new(6);
-        for (v, d) in [(3, 5.0), (1, 2.0), (4, 2.0), (0, 9.0), (5, 7.0)] {
-            q.push_or_lower(v, d);
-        }
-        q.push_or_lower(0, 1.0);
-        q.push_or_lower(5, 2.0);
-        let order: Vec<(u32, Real)> = std::iter::from_fn(|| q.pop().map(|e| (e.v, e.d))).collect();
-        assert_eq!(order, [(0, 1.0), (1, 2.0), (4, 2.0), (5, 2.0), (3, 5.0)]);
-        assert!(q.is_empty() && q.at.iter().all(|&i| i == u32::MAX));
     }
 
     #[test]
@@ -1240,80 +890,5 @@ mod tests {
         let tight = RunOn::new(0.5, 8.0).tighter(RunOn::new(1.0, 2.0));
         assert_eq!(tight.run(1.0, 15.0), 2.0);
         assert_eq!(tight.run(10.0, 15.0), 7.0);
-    }
-
-    /// A curve in the plane z = 0 (faces with normal +z) as the seeding sees it.
-    fn curve(points: &[[Real; 2]], closed: bool) -> (super::super::source::Curve, Vec<Vector3>) {
-        let points: Vec<Point3> = points
-            .iter()
-            .map(|p| Point3::new(p[0], p[1], 0.0))
-            .collect();
-        let faces = vec![0; points.len()];
-        (
-            super::super::source::Curve {
-                points,
-                faces,
-                closed,
-            },
-            vec![Vector3::z()],
-        )
-    }
-
-    #[test]
-    fn collinear_samples_make_one_piece_that_runs_on_only_as_the_curve_allows() {
-        // Half-unit samples along y = 0 to x = 3, then a corner up to (3, 2).
-        let (c, normals) = curve(
-            &[
-                [0.0, 0.0],
-                [0.5, 0.0],
-                [1.0, 0.0],
-                [1.5, 0.0],
-                [2.0, 0.0],
-                [2.5, 0.0],
-                [3.0, 0.0],
-                [3.0, 1.0],
-                [3.0, 2.0],
-            ],
-            false,
-        );
-        let pieces = source_pieces(&c, &normals, 1.0);
-        assert_eq!(pieces.len(), 8);
-        // Every sub-piece of the first line holds the whole line.
-        for piece in &pieces[..6] {
-            assert_eq!((piece.p, piece.q), (c.points[0], c.points[6]));
-        }
-        let first = pieces[2].run_on;
-        // Beyond (0, 0) the open curve ends: no run-on either side.
-        assert_eq!([first[0][0], first[1][0]], [RunOn::NONE; 2]);
-        // Beyond (3, 0) the curve turns left by 90°: for the right side (away) it leaves the
-        // band at once; for the left it turns up at a right angle (cot 0 < 1/64): none.
-        assert_eq!([first[0][1], first[1][1]], [RunOn::NONE; 2]);
-        // A gentle left turn (1 in 4) beyond the end: the left side runs on bounded by cot 4,
-        // the right side not at all (the curve leaves the band on its far side).
-        let (c, normals) = curve(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.25], [3.0, 0.5]], false);
-        let pieces = source_pieces(&c, &normals, 1.0);
-        let run_on = pieces[0].run_on;
-        assert_eq!(run_on[0][1].run(0.1, 1.0), 0.4);
-        assert_eq!(run_on[1][1], RunOn::NONE);
-        // Towards the left by 1e-5 at the first sample, back by 1e-5 at the next (within the
-        // band, 3e-4 of the reach): the left runs on, bounded by the steepest chord (cot
-        // 5e4, rounded down to the largest bound, 256); the right, which the curve leaves at
-        // once, not at all.
-        let (c, normals) = curve(&[[0.0, 0.0], [1.0, 0.0], [1.5, 1e-5], [2.5, -1e-5]], false);
-        let piece = source_pieces(&c, &normals, 1.0)[0];
-        assert_eq!((piece.p, piece.q), (c.points[0], c.points[1]));
-        assert_eq!(piece.run_on[0][1].run(1e-3, 1.0), 0.256);
-        assert_eq!(piece.run_on[0][1].run(1.0, 1.0), 1.0);
-        assert_eq!(piece.run_on[1][1], RunOn::NONE);
-        // Towards the left for half the reach, then off the band on its far side: the left
-        // runs on to where the curve leaves the band (0.5004, rounded down to 7/15).
-        let (c, normals) = curve(&[[0.0, 0.0], [1.0, 0.0], [1.5, 1e-4], [2.5, -1.0]], false);
-        let piece = source_pieces(&c, &normals, 1.0)[0];
-        assert_eq!(piece.run_on[0][1].run(100.0, 1.0), 7.0 / 15.0);
-        assert_eq!(piece.run_on[1][1], RunOn::NONE);
-        // A hairpin: back along the line (a turn over 90° either way): none.
-        let (c, normals) = curve(&[[0.0, 0.0], [1.0, 0.0], [0.0, 0.01], [-1.0, 0.02]], false);
-        let piece = source_pieces(&c, &normals, 1.0)[0];
-        assert_eq!([piece.run_on[0][1], piece.run_on[1][1]], [RunOn::NONE; 2]);
     }
 }
