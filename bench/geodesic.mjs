@@ -11,6 +11,9 @@
 //     source at its south pole: the great-circle distance.
 // Each method runs in a child process (fresh WebAssembly memory): Mesh.fromStl, then
 // mesh.geodesicDistance timed alone; max and mean |d − analytic| over the welded vertices.
+// Times are medians of GEODESIC_CURVED_RUNS runs (default 3; a fresh process each), fast
+// marching's the median of as many solves by one solver: single runs on a shared machine
+// vary by a third.
 // `exact` is skipped above GEODESIC_EXACT_MAX triangles (default 100 000; it takes minutes
 // there: n^1.6 growth). Fast marching: potpourri3d 1.4.0 `MeshFastMarchingDistanceSolver` on the
 // same vertices (rounded to f32 like the STL) and source (the rim as a closed curve through its
@@ -27,6 +30,8 @@ const here = fileURLToPath(import.meta.url);
 const root = join(dirname(here), '..');
 const SIZES = (process.env.GEODESIC_CURVED_SIZES ?? '500000,2000000').split(',').map(Number);
 const EXACT_MAX = Number(process.env.GEODESIC_EXACT_MAX ?? 100_000);
+const RUNS = Math.max(1, Number(process.env.GEODESIC_CURVED_RUNS ?? 3));
+const median = (xs) => { const s = [...xs].sort((a, b) => a - b); return s[(s.length - 1) >> 1]; };
 const METHODS = ['accurate', 'fast', 'exact'];
 const CAP_R = 1000;
 const SPHERE_R = 100;
@@ -175,14 +180,18 @@ V = np.fromfile(d + '/V.bin', dtype=np.float64).reshape(-1, 3)
 F = np.fromfile(d + '/F.bin', dtype=np.int32).reshape(-1, 3)
 src = [int(x) for x in np.fromfile(d + '/S.bin', dtype=np.int32)]
 closed = sys.argv[2] == 'closed'
+runs = int(sys.argv[3])
 t0 = time.perf_counter()
 solver = pp3d.MeshFastMarchingDistanceSolver(V, F)
 t1 = time.perf_counter()
 curve = [(v, []) for v in src] + ([(src[0], [])] if closed else [])
-dist = np.asarray(solver.compute_distance([curve], [], False))
-t2 = time.perf_counter()
+solves = []
+for _ in range(runs):
+    t2 = time.perf_counter()
+    dist = np.asarray(solver.compute_distance([curve], [], False))
+    solves.append(1000 * (time.perf_counter() - t2))
 dist.astype(np.float64).tofile(d + '/D.bin')
-print(json.dumps({'setup': 1000 * (t1 - t0), 'solve': 1000 * (t2 - t1)}))
+print(json.dumps({'setup': 1000 * (t1 - t0), 'solves': solves}))
 `;
 
 /** The venv's python with potpourri3d 1.4.0, or a reason why there is none. */
@@ -209,8 +218,10 @@ function runFmm(python, shape, target) {
     writeFileSync(join(dir, 'F.bin'), new Uint8Array(Int32Array.from(m.triangles).buffer));
     const src = shape === 'cap' ? m.rim : shape === 'section' ? m.ring : [m.pole];
     writeFileSync(join(dir, 'S.bin'), new Uint8Array(Int32Array.from(src).buffer));
-    const out = execFileSync(python, ['-c', PYTHON_FMM, dir, shape === 'sphere' ? 'point' : 'closed'], { encoding: 'utf8' });
-    const times = JSON.parse(out.trim().split('\n').pop());
+    const out = execFileSync(python, ['-c', PYTHON_FMM, dir, shape === 'sphere' ? 'point' : 'closed', String(RUNS)],
+      { encoding: 'utf8' });
+    const { setup, solves } = JSON.parse(out.trim().split('\n').pop());
+    const times = { setup, solve: median(solves) };
     const d = new Float64Array(readFileSync(join(dir, 'D.bin')).buffer.slice(0));
     return { ...times, ...errors(m.positions, d, m.exact) };
   } finally {
@@ -225,7 +236,8 @@ export async function main() {
     ' θ = 0.6 (fast marching: that ring as a closed curve), distance R·|θ − θs|;' +
     `\n  sphere: R ${SPHERE_R} mm (cube sphere), point source at the south pole, great-circle distance.` +
     '\n  Time: geodesicDistance alone (WebAssembly in Node); fast marching: potpourri3d 1.4.0, native, solve' +
-    ' (and setup + solve); ×FMM: time / fast-marching solve time.');
+    ' (and setup + solve); ×FMM: time / fast-marching solve time.' +
+    `\n  Times: medians of ${RUNS} runs (GEODESIC_CURVED_RUNS), each of ours in a fresh process, fast marching's by one solver.`);
   const fmm = potpourri();
   if (fmm.why) console.log(`  fast marching column left out: ${fmm.why}.`);
   console.log('shape    triangles  method          time ms   ×FMM   max err mm  mean err mm');
@@ -245,9 +257,14 @@ export async function main() {
           console.log(`${shape.padEnd(7)}${String(triangles).padStart(10)}  exact           skipped: minutes at this size (GEODESIC_EXACT_MAX=${EXACT_MAX})`);
           continue;
         }
-        const out = execFileSync(process.execPath, ['--max-old-space-size=8192', here, '--case', shape, String(size), method],
-          { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
-        const r = JSON.parse(out);
+        const runs = [];
+        // `exact` once: it is the reference for accuracy, not for speed.
+        for (let k = 0; k < (method === 'exact' ? 1 : RUNS); k++) {
+          const out = execFileSync(process.execPath, ['--max-old-space-size=8192', here, '--case', shape, String(size), method],
+            { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
+          runs.push(JSON.parse(out));
+        }
+        const r = { ...runs[0], ms: median(runs.map((x) => x.ms)) };
         triangles = r.triangles;
         const ratio = ref ? (r.ms / ref.solve).toFixed(2) : '–';
         console.log(`${shape.padEnd(7)}${String(r.triangles).padStart(10)}  ${r.method.padEnd(12)}  ${r.ms.toFixed(0).padStart(9)}` +

@@ -118,6 +118,19 @@ impl IsoLine {
 
 /// The level set `values = level` on the active faces as polylines (level index 0).
 pub(crate) fn contour(surface: &Surface, values: &[Real], level: Real) -> Vec<IsoLine> {
+    contour_with_faces(surface, values, level)
+        .into_iter()
+        .map(|(line, _)| line)
+        .collect()
+}
+
+/// [`contour`] with the face each segment of a line lies in: segment `j` joins point `j` to
+/// point `j + 1` (of a closed line, the last joins the last point to the first).
+pub(crate) fn contour_with_faces(
+    surface: &Surface,
+    values: &[Real],
+    level: Real,
+) -> Vec<(IsoLine, Vec<u32>)> {
     let mesh = surface.mesh;
     let on = level - LEVEL_TOLERANCE * level.abs().max(1.0);
     let above = |v: u32| values[v as usize] >= on;
@@ -164,14 +177,16 @@ pub(crate) fn contour(surface: &Surface, values: &[Real], level: Real) -> Vec<Is
         }
         let Some(slots0) = crossing(f0) else { continue };
         visited[f0] = true;
-        // Walk one way from f0 through slots0[1], then the other way through slots0[0].
-        let mut halves: [Vec<(Point3, Vector3)>; 2] = [Vec::new(), Vec::new()];
+        // Walk one way from f0 through slots0[1], then the other way through slots0[0]; each
+        // point with the face it leaves.
+        let mut halves: [Vec<(Point3, Vector3, u32)>; 2] = [Vec::new(), Vec::new()];
         let mut closed = false;
         for (side, half) in halves.iter_mut().enumerate() {
             let (mut f, mut exit) = (f0, slots0[1 - side]);
             // Each step visits a new face, so at most F steps.
             loop {
-                half.push(point(f, exit));
+                let (p, n) = point(f, exit);
+                half.push((p, n, f as u32));
                 let Some(g) = surface.across(f, exit) else {
                     break;
                 };
@@ -192,18 +207,33 @@ pub(crate) fn contour(surface: &Surface, values: &[Real], level: Real) -> Vec<Is
                 break;
             }
         }
-        let mut chain: Vec<(Point3, Vector3)> = halves[1].iter().rev().copied().collect();
+        let back = halves[1].len();
+        let mut chain: Vec<(Point3, Vector3, u32)> = halves[1].iter().rev().copied().collect();
         chain.extend_from_slice(&halves[0]);
         // A closed walk ends on the crossing of slots0[0], the edge it started from: the
         // polyline closes back to its first point without repeating it.
         if chain.len() >= 2 {
-            lines.push(IsoLine {
-                level: 0,
-                distance: level,
-                closed,
-                points: chain.iter().map(|c| c.0).collect(),
-                normals: chain.iter().map(|c| c.1).collect(),
-            });
+            // Walking back, a point's face holds the segment to the next point (towards f0);
+            // walking on, the next point's face holds it. The closing segment lies in f0,
+            // the face of the first point of a closed walk (which only the first half makes).
+            let segments = if closed { chain.len() } else { chain.len() - 1 };
+            let faces = (0..segments)
+                .map(|j| match j {
+                    _ if j + 1 == chain.len() => chain[0].2,
+                    _ if j < back => chain[j].2,
+                    _ => chain[j + 1].2,
+                })
+                .collect();
+            lines.push((
+                IsoLine {
+                    level: 0,
+                    distance: level,
+                    closed,
+                    points: chain.iter().map(|c| c.0).collect(),
+                    normals: chain.iter().map(|c| c.1).collect(),
+                },
+                faces,
+            ));
         }
     }
     lines

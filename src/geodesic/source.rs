@@ -5,10 +5,11 @@
 //! subdivided (and its samples snapped) so consecutive samples are at most a fraction of an
 //! edge apart; a boundary loop is chained from the edges of the active faces that have no
 //! active face across; a plane section is the zero level set of the signed distance to the
-//! plane (the iso-line code), keeping the piece that passes nearest to the plane's point.
+//! plane (the iso-line code), keeping the piece that passes nearest to the plane's point (its
+//! segments lie in known faces, so it is subdivided without snapping).
 //! Cost: O(F) plus a closest-point query per sample.
 
-use super::iso_lines::contour;
+use super::iso_lines::contour_with_faces;
 use super::params::GeodesicError;
 use super::surface::{FaceGrid, Surface};
 use crate::math::{Point3, Real, Vector3};
@@ -171,6 +172,33 @@ fn boundary_curve(surface: &Surface, lp: &BoundaryLoop, step: Real) -> Curve {
     curve
 }
 
+/// A plane section as a source curve, each segment (lying in face `faces[j]`) cut into
+/// pieces of at most `step`: the samples lie on the surface already, so they need no
+/// snapping (nor the closest-point grid, which costs more than the whole section to build).
+fn section_curve(points: &[Point3], faces: &[u32], closed: bool, step: Real) -> Curve {
+    let mut curve = Curve {
+        points: Vec::with_capacity(points.len()),
+        faces: Vec::with_capacity(points.len()),
+        closed,
+    };
+    for (j, &f) in faces.iter().enumerate() {
+        let (a, b) = (points[j], points[(j + 1) % points.len()]);
+        let pieces = ((b - a).norm() / step).ceil().max(1.0) as usize;
+        for k in 0..pieces {
+            curve
+                .points
+                .push(a + (b - a) * (k as Real / pieces as Real));
+            curve.faces.push(f);
+        }
+    }
+    if !closed {
+        // The last point ends the last segment, in its face.
+        curve.points.push(points[points.len() - 1]);
+        curve.faces.push(faces[faces.len() - 1]);
+    }
+    curve
+}
+
 /// Snaps `points` to the surface and subdivides every segment to at most `step`.
 fn snap_polyline(
     surface: &Surface,
@@ -319,30 +347,130 @@ pub(crate) fn resolve(
                 .iter()
                 .map(|p| n.dot(&(p - point)))
                 .collect();
-            let lines = contour(surface, &values, 0.0);
+            let lines = contour_with_faces(surface, &values, 0.0);
             let nearest = lines.iter().min_by(|a, b| {
-                let d = |l: &&super::IsoLine| {
-                    l.points
+                let d = |l: &&(super::IsoLine, Vec<u32>)| {
+                    l.0.points
                         .iter()
                         .map(|p| (p - point).norm())
                         .fold(Real::MAX, Real::min)
                 };
                 d(a).total_cmp(&d(b))
             });
-            let Some(line) = nearest else {
+            let Some((line, faces)) = nearest else {
                 return Err(GeodesicError::SourceMissesSurface(
                     "the plane does not cut the surface".into(),
                 ));
             };
-            out.curves.push(snap_polyline(
-                surface,
-                grid(),
-                &line.points,
-                line.closed,
-                step,
-                max_snap,
-            )?);
+            out.curves
+                .push(section_curve(&line.points, faces, line.closed, step));
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{FaceAdjacency, TriMesh};
+
+    /// A wavy strip bent into most of a tube (open along one seam when `open`): quads of
+    /// alternating diagonals, so a section crosses faces both ways round.
+    fn tube(open: bool) -> TriMesh {
+        let (around, along) = (24usize, 10usize);
+        let columns = if open { around + 1 } else { around };
+        let mut positions = Vec::new();
+        for j in 0..=along {
+            for i in 0..columns {
+                let a = 5.5 * i as Real / around as Real;
+                let r = 10.0 + 0.7 * libm::sin(3.0 * a + 0.4 * j as Real);
+                positions.push(Point3::new(
+                    r * libm::cos(a),
+                    r * libm::sin(a),
+                    2.0 * j as Real,
+                ));
+            }
+        }
+        let id = |i: usize, j: usize| (j * columns + i % columns) as u32;
+        let mut triangles = Vec::new();
+        for j in 0..along {
+            for i in 0..around {
+                let q = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+                if (i + j) % 2 == 0 {
+                    triangles.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+                } else {
+                    triangles.extend([[q[0], q[1], q[3]], [q[1], q[2], q[3]]]);
+                }
+            }
+        }
+        TriMesh::new(positions, triangles).unwrap()
+    }
+
+    /// Whether `p` lies in face `f` (in its plane and within its edges, up to rounding).
+    fn in_face(mesh: &TriMesh, f: u32, p: &Point3) -> bool {
+        let [a, b, c] = mesh.corners(f as usize);
+        let n = (b - a).cross(&(c - a));
+        let scale = n.norm();
+        let inside = [(a, b), (b, c), (c, a)]
+            .iter()
+            .all(|(u, v)| (v - u).cross(&(p - u)).dot(&n) >= -1e-9 * scale * scale);
+        inside && (p - a).dot(&n).abs() <= 1e-9 * scale
+    }
+
+    #[test]
+    fn a_plane_section_is_sampled_in_the_faces_it_crosses_without_snapping() {
+        for open in [false, true] {
+            let mesh = tube(open);
+            let adjacency = FaceAdjacency::new(&mesh);
+            let surface = Surface::new(&mesh, &adjacency, None).unwrap();
+            let step = surface.mean_edge / 4.0;
+            // Tilted, so the section crosses rows of faces; it misses the seam's gap.
+            let source = GeodesicSource::Plane {
+                point: Point3::new(10.0, 0.0, 9.0),
+                normal: Vector3::new(0.0, 0.25, 1.0),
+            };
+            let resolved = resolve(&surface, &OnceCell::new(), &source, step, 1.0).unwrap();
+            let curve = &resolved.curves[0];
+            assert_eq!(curve.closed, !open);
+            assert_eq!(curve.points.len(), curve.faces.len());
+            let n = curve.points.len();
+            assert!(n > 50, "{n} samples");
+            let segments = if curve.closed { n } else { n - 1 };
+            for j in 0..segments {
+                let (p, q) = (curve.points[j], curve.points[(j + 1) % n]);
+                // On the plane, at most a step apart, and each sample and the next one in
+                // the face of the sample (the piece between them lies in it).
+                let off = Vector3::new(0.0, 0.25, 1.0)
+                    .normalize()
+                    .dot(&(p - Point3::new(10.0, 0.0, 9.0)));
+                assert!(off.abs() < 1e-9, "sample {j} is {off} off the plane");
+                assert!((q - p).norm() <= step * (1.0 + 1e-9));
+                assert!(
+                    in_face(&mesh, curve.faces[j], &p),
+                    "sample {j} outside its face"
+                );
+                assert!(
+                    in_face(&mesh, curve.faces[j], &q),
+                    "sample {} outside face of {j}",
+                    j + 1
+                );
+            }
+            // The closed section goes all the way round: its length is about 2π r.
+            let length: Real = (0..segments)
+                .map(|j| (curve.points[(j + 1) % n] - curve.points[j]).norm())
+                .sum();
+            let full = 2.0 * std::f64::consts::PI as Real * 10.0;
+            if open {
+                assert!(
+                    length > 0.8 * full && length < 0.95 * full,
+                    "length {length}"
+                );
+            } else {
+                assert!(
+                    length > 0.95 * full && length < 1.15 * full,
+                    "length {length}"
+                );
+            }
+        }
+    }
 }
