@@ -13,7 +13,9 @@
 // mesh.geodesicDistance timed alone; max and mean |d − analytic| over the welded vertices.
 // Times are medians of GEODESIC_CURVED_RUNS runs (default 3; a fresh process each), fast
 // marching's the median of as many solves by one solver: single runs on a shared machine
-// vary by a third.
+// vary by a third. `warm`: the same call made again in the process, once the engine has
+// compiled the hot code to optimised machine code (a first call runs partly in its baseline
+// code and compiles meanwhile: in a page, the Paths tool's first distance on a model).
 // `exact` is skipped above GEODESIC_EXACT_MAX triangles (default 100 000; it takes minutes
 // there: n^1.6 growth). Fast marching: potpourri3d 1.4.0 `MeshFastMarchingDistanceSolver` on the
 // same vertices (rounded to f32 like the STL) and source (the rim as a closed curve through its
@@ -164,12 +166,20 @@ async function runCase(shape, target, method) {
     for (let v = 1; v < positions.length / 3; v++) if (positions[3 * v + 2] < positions[3 * pole + 2]) pole = v;
     source = { vertices: [pole] };
   }
-  const t = performance.now();
+  let t = performance.now();
   const field = mesh.geodesicDistance(source, { method });
   const ms = performance.now() - t;
   const result = { shape, triangles: mesh3.triangles.length / 3, method: field.method, ms,
     ...errors(positions, field.vertexDistance(), mesh3.exact) };
-  field.free(); mesh.free();
+  field.free();
+  // The same call again: the engine's optimised code is ready and the memory grown.
+  result.warm = NaN;
+  if (method !== 'exact') {
+    t = performance.now();
+    mesh.geodesicDistance(source, { method }).free();
+    result.warm = performance.now() - t;
+  }
+  mesh.free();
   return result;
 }
 
@@ -237,10 +247,11 @@ export async function main() {
     `\n  sphere: R ${SPHERE_R} mm (cube sphere), point source at the south pole, great-circle distance.` +
     '\n  Time: geodesicDistance alone (WebAssembly in Node); fast marching: potpourri3d 1.4.0, native, solve' +
     ' (and setup + solve); ×FMM: time / fast-marching solve time.' +
-    `\n  Times: medians of ${RUNS} runs (GEODESIC_CURVED_RUNS), each of ours in a fresh process, fast marching's by one solver.`);
+    `\n  Times: medians of ${RUNS} runs (GEODESIC_CURVED_RUNS), each of ours in a fresh process (the first call there,` +
+    ' and warm: the same call again), fast marching\'s by one solver.');
   const fmm = potpourri();
   if (fmm.why) console.log(`  fast marching column left out: ${fmm.why}.`);
-  console.log('shape    triangles  method          time ms   ×FMM   max err mm  mean err mm');
+  console.log('shape    triangles  method          time ms   ×FMM  warm ms   ×FMM   max err mm  mean err mm');
   for (const shape of ['cap', 'section', 'sphere']) {
     for (const size of SIZES) {
       let ref = null;
@@ -264,15 +275,16 @@ export async function main() {
             { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
           runs.push(JSON.parse(out));
         }
-        const r = { ...runs[0], ms: median(runs.map((x) => x.ms)) };
+        const r = { ...runs[0], ms: median(runs.map((x) => x.ms)), warm: median(runs.map((x) => x.warm ?? NaN)) };
         triangles = r.triangles;
-        const ratio = ref ? (r.ms / ref.solve).toFixed(2) : '–';
+        const ratio = (ms) => (ref && ms === ms ? (ms / ref.solve).toFixed(2) : '–').padStart(5);
         console.log(`${shape.padEnd(7)}${String(r.triangles).padStart(10)}  ${r.method.padEnd(12)}  ${r.ms.toFixed(0).padStart(9)}` +
-          `  ${ratio.padStart(5)}  ${r.maxError.toExponential(2).padStart(11)}  ${r.meanError.toExponential(2).padStart(11)}`);
+          `  ${ratio(r.ms)}  ${(r.warm === r.warm ? r.warm.toFixed(0) : '–').padStart(7)}  ${ratio(r.warm)}` +
+          `  ${r.maxError.toExponential(2).padStart(11)}  ${r.meanError.toExponential(2).padStart(11)}`);
       }
       if (ref) {
         console.log(`${shape.padEnd(7)}${String(triangles).padStart(10)}  fast marching  ${ref.solve.toFixed(0).padStart(9)}` +
-          `  ${'1.00'.padStart(5)}  ${ref.maxError.toExponential(2).padStart(11)}  ${ref.meanError.toExponential(2).padStart(11)}` +
+          `  ${'1.00'.padStart(5)}  ${''.padStart(7)}  ${''.padStart(5)}  ${ref.maxError.toExponential(2).padStart(11)}  ${ref.meanError.toExponential(2).padStart(11)}` +
           `   (setup + solve ${(ref.setup + ref.solve).toFixed(0)} ms)`);
       }
     }
