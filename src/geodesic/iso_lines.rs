@@ -218,10 +218,14 @@ pub(crate) fn contour_with_faces(
             // the face of the first point of a closed walk (which only the first half makes).
             let segments = if closed { chain.len() } else { chain.len() - 1 };
             let faces = (0..segments)
-                .map(|j| match j {
-                    _ if j + 1 == chain.len() => chain[0].2,
-                    _ if j < back => chain[j].2,
-                    _ => chain[j + 1].2,
+                .map(|j| {
+                    if j + 1 == chain.len() {
+                        chain[0].2
+                    } else if j < back {
+                        chain[j].2
+                    } else {
+                        chain[j + 1].2
+                    }
                 })
                 .collect();
             lines.push((

@@ -150,32 +150,15 @@ fn boundary_loops_with_faces(surface: &Surface) -> Vec<BoundaryLoop> {
 /// the samples lie on the loop's edges, so they need no snapping.
 fn boundary_curve(surface: &Surface, lp: &BoundaryLoop, step: Real) -> Curve {
     let p = surface.mesh.positions();
-    let n = lp.vertices.len();
-    let mut curve = Curve {
-        points: Vec::new(),
-        faces: Vec::new(),
-        closed: true,
-    };
-    for i in 0..n {
-        let (a, b) = (
-            p[lp.vertices[i] as usize],
-            p[lp.vertices[(i + 1) % n] as usize],
-        );
-        let pieces = ((b - a).norm() / step).ceil().max(1.0) as usize;
-        for j in 0..pieces {
-            curve
-                .points
-                .push(a + (b - a) * (j as Real / pieces as Real));
-            curve.faces.push(lp.faces[i]);
-        }
-    }
-    curve
+    let points: Vec<Point3> = lp.vertices.iter().map(|&v| p[v as usize]).collect();
+    subdivided_curve(&points, &lp.faces, true, step)
 }
 
-/// A plane section as a source curve, each segment (lying in face `faces[j]`) cut into
-/// pieces of at most `step`: the samples lie on the surface already, so they need no
-/// snapping (nor the closest-point grid, which costs more than the whole section to build).
-fn section_curve(points: &[Point3], faces: &[u32], closed: bool, step: Real) -> Curve {
+/// A polyline lying on the surface as a source curve, each segment (lying in face
+/// `faces[j]`: a boundary edge's face, or the face a plane section crosses) cut into pieces of
+/// at most `step`. The samples lie on the surface already, so they need no snapping (nor the
+/// closest-point grid, which costs more than a whole plane section to build).
+fn subdivided_curve(points: &[Point3], faces: &[u32], closed: bool, step: Real) -> Curve {
     let mut curve = Curve {
         points: Vec::with_capacity(points.len()),
         faces: Vec::with_capacity(points.len()),
@@ -363,7 +346,7 @@ pub(crate) fn resolve(
                 ));
             };
             out.curves
-                .push(section_curve(&line.points, faces, line.closed, step));
+                .push(subdivided_curve(&line.points, faces, line.closed, step));
         }
     }
     Ok(out)
