@@ -15,9 +15,12 @@ use std::f64::consts::PI;
 mod shapes;
 use shapes::*;
 
+/// The distance by `method`; the accurate method without its exact first try on small
+/// cornered surfaces, so these tests check the virtual sources themselves.
 fn distance(s: &Shape, source: &GeodesicSource, method: Method) -> DistanceField {
     let params = DistanceParams {
         method,
+        exact_first_windows: Some(0),
         ..DistanceParams::default()
     };
     geodesic_distance(&s.mesh, &s.adjacency, source, &params, &mut |_, _| {}).unwrap()
@@ -552,6 +555,51 @@ fn point_sources_on_boxes_never_undercut_the_exact_distance() {
     }
 }
 
+#[test]
+fn small_cornered_surfaces_get_the_exact_distance_and_smooth_ones_virtual_sources() {
+    let run = |s: &Shape, method, exact_first_windows| {
+        let params = DistanceParams {
+            method,
+            exact_first_windows,
+            ..DistanceParams::default()
+        };
+        let src = GeodesicSource::Vertices(vec![1]);
+        geodesic_distance(&s.mesh, &s.adjacency, &src, &params, &mut |_, _| {}).unwrap()
+    };
+    // A cube has corners (angle defect π/2): the exact method runs, and the field says so.
+    let cube = boxed(1.0, 1.0, 1.0, 6);
+    let exact = run(&cube, Method::Exact, None);
+    let default = run(&cube, Method::Accurate, None);
+    assert_eq!(default.method, Method::Exact);
+    assert_eq!(default.windows, exact.windows);
+    assert!(default.windows > 0);
+    assert_eq!(default.vertex_distance, exact.vertex_distance);
+    // Over its budget, the virtual sources answer, as when the exact method is not tried.
+    let over = run(&cube, Method::Accurate, Some(exact.windows / 2));
+    let virtual_only = run(&cube, Method::Accurate, Some(0));
+    assert_eq!(over.method, Method::Accurate);
+    assert_eq!(virtual_only.method, Method::Accurate);
+    assert_eq!(over.windows, 0);
+    assert_eq!(over.vertex_distance, virtual_only.vertex_distance);
+    assert_ne!(virtual_only.vertex_distance, exact.vertex_distance);
+    // A budget given is used as given (it counts the vertex events too).
+    let given = run(&cube, Method::Accurate, Some(2 * exact.windows));
+    assert_eq!(given.method, Method::Exact);
+    // A sphere fine enough to have no corner: virtual sources.
+    let sphere = cube_sphere(16, 100.0);
+    let smooth = run(&sphere, Method::Accurate, None);
+    assert_eq!(smooth.method, Method::Accurate);
+    assert_eq!(smooth.windows, 0);
+    assert_eq!(
+        smooth.vertex_distance,
+        run(&sphere, Method::Accurate, Some(0)).vertex_distance
+    );
+    assert_eq!(
+        run(&sphere, Method::Accurate, Some(1 << 40)).method,
+        Method::Exact
+    );
+}
+
 /// A closed can of radius 1 and height `h` around z with `around` sides, its caps in `caps`
 /// rings, its side in `rings`; each ring turned by `twist` radians from the one before (the
 /// side's quads then fold along their diagonals, and the rim is a crease of varying angle).
@@ -674,6 +722,7 @@ mod real_models {
                     let params = DistanceParams {
                         method,
                         faces: Some(faces.clone()),
+                        exact_first_windows: Some(0),
                         ..DistanceParams::default()
                     };
                     geodesic_distance(&m.mesh, &m.adjacency, &boundary(), &params, &mut |_, _| {})
@@ -747,16 +796,31 @@ mod real_models {
             let p = m.mesh.positions();
             for src in sources {
                 let source = GeodesicSource::Vertices(vec![src]);
-                let run = |method| {
+                let run = |method, exact_first_windows| {
                     let params = DistanceParams {
                         method,
+                        exact_first_windows,
                         ..DistanceParams::default()
                     };
                     geodesic_distance(&m.mesh, &m.adjacency, &source, &params, &mut |_, _| {})
                         .unwrap()
-                        .vertex_distance
                 };
-                let (accurate, exact) = (run(Method::Accurate), run(Method::Exact));
+                let (accurate, exact) = (
+                    run(Method::Accurate, Some(0)).vertex_distance,
+                    run(Method::Exact, None).vertex_distance,
+                );
+                // Left to itself, the accurate method answers with the exact distance on
+                // these small cornered models.
+                let default = run(Method::Accurate, None);
+                assert_eq!(default.method, Method::Exact, "{name} from {src}");
+                assert!(
+                    default
+                        .vertex_distance
+                        .iter()
+                        .zip(&exact)
+                        .all(|(a, b)| a == b || !a.is_finite() && !b.is_finite()),
+                    "{name} from {src}: not the exact distance"
+                );
                 // Mean edge of the faces reached.
                 let (mut edge_sum, mut edges) = (0.0, 0);
                 for t in m.mesh.triangles() {

@@ -51,7 +51,11 @@ pub enum GeodesicError {
 pub enum Method {
     /// Dijkstra-ordered propagation of explicit virtual sources (see `virtual_source.rs`):
     /// near the exact polyhedral distance (second order in the edge length away from where
-    /// fronts meet) at the cost of fast marching. The default.
+    /// fronts meet) at the cost of fast marching. The default. On a surface small and
+    /// cornered enough that the exact method finishes within a budget of windows (a whole
+    /// coarse aircraft model: corners are where virtual sources err most, and few faces make
+    /// the exact method cheap), the exact distance instead, and the field reports
+    /// [`Method::Exact`] (see [`DistanceParams::exact_first_windows`]).
     Accurate,
     /// Per-vertex distance by unfolded wavefront propagation: fast, exact on developable
     /// surfaces, first order where fronts meet on doubly curved ones (see `unfolding.rs`);
@@ -92,6 +96,11 @@ pub struct DistanceParams {
     /// Exact method: windows processed at most before [`GeodesicError::LimitExceeded`];
     /// `None`: `64·√max(1, E/10⁴)` per edge for `E` edges, plus 2²⁰.
     pub max_windows: Option<u64>,
+    /// Accurate method: windows the exact method may process before the virtual-source
+    /// propagation runs instead. `None`: automatic, `64` per face on a surface of at most
+    /// 100k faces with a corner (an interior vertex whose angle defect exceeds 0.05 rad),
+    /// none elsewhere; `Some(0)`: never. See [`Method::Accurate`].
+    pub exact_first_windows: Option<u64>,
 }
 
 impl Default for DistanceParams {
@@ -103,6 +112,7 @@ impl Default for DistanceParams {
             faces: None,
             max_snap_distance: None,
             max_windows: None,
+            exact_first_windows: None,
         }
     }
 }

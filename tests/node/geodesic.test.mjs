@@ -141,6 +141,36 @@ test('the exact method gives the distance z to rounding, and its circles', () =>
   field.free();
 });
 
+test('on a small surface with corners the accurate method answers with the exact distance, and says so', () => {
+  // A closed cube of side 40 mm, two triangles a face: from one corner, the far corner is
+  // √5·40 mm away (the diagonal of two faces unfolded into a 40 × 80 rectangle).
+  const s = 40;
+  const c = (i) => [(i & 1) * s, ((i >> 1) & 1) * s, ((i >> 2) & 1) * s];
+  const quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+  const bytes = new Uint8Array(84 + 50 * 12);
+  const view = new DataView(bytes.buffer);
+  view.setUint32(80, 12, true);
+  let k = 0;
+  for (const [a, b, d, e] of quads) {
+    for (const t of [[a, b, d], [a, d, e]]) {
+      t.flatMap(c).forEach((x, q) => view.setFloat32(84 + 50 * k + 12 + 4 * q, x, true));
+      k++;
+    }
+  }
+  const cube = Mesh.fromStl(bytes);
+  const pos = cube.positions();
+  const at = (x, y, z) => [...Array(pos.length / 3).keys()].find((v) => pos[3 * v] === x && pos[3 * v + 1] === y && pos[3 * v + 2] === z);
+  const field = cube.geodesicDistance({ vertices: [at(0, 0, 0)] });
+  assert.equal(field.method, 'exact');
+  assert.ok(Math.abs(field.vertexDistance()[at(s, s, s)] - Math.sqrt(5) * s) < 1e-9);
+  field.free();
+  // The fast method is not switched.
+  const fast = cube.geodesicDistance({ vertices: [at(0, 0, 0)] }, { method: 'fast' });
+  assert.equal(fast.method, 'fast');
+  fast.free();
+  cube.free();
+});
+
 test('the voxel method finds the same circles within two voxels', () => {
   const L = 1;
   const field = mesh.geodesicDistance(ringSource, { method: 'voxel', voxelSize: L });

@@ -63,6 +63,11 @@ function fieldRow(f) {
     `<span class="unit">${f.unit}</span></label>`;
 }
 const group = (g) => FIELDS.filter((f) => f.group === g).map(fieldRow).join('');
+/** "accurate method", or what the accurate method ran when it answered by another (the
+ *  exact distance on a small cornered surface). */
+const methodLabel = (run) => (run.ran && run.ran !== run.method
+  ? `${run.method} method (the ${run.ran} distance: small surface with corners)`
+  : `${run.method} method`);
 const radio = (name, value, label) => `<label><input type="radio" name="${name}" value="${value}"> ${label}</label>`;
 
 const PANEL = `
@@ -107,7 +112,7 @@ const PANEL = `
     </fieldset>
     <fieldset>
       <legend>Method</legend>
-      ${radio('method', 'accurate', 'accurate (virtual sources; the default)')}
+      ${radio('method', 'accurate', 'accurate (virtual sources, or exact on a small cornered surface; the default)')}
       ${radio('method', 'exact', 'exact (window propagation; slow on large curved meshes)')}
       ${radio('method', 'fast', 'fast (unfolded wavefronts; approximate on curved meshes)')}
       ${radio('method', 'voxel', 'voxels (the paper)')}
@@ -516,7 +521,7 @@ class PathsTool {
       : request.source.kind === 'points' ? `${request.source.points.length / 3} clicked points`
         : request.source.loop === undefined ? 'Boundary loops' : `Boundary loop ${request.source.loop + 1} (by length)`;
     $('paths-summary').textContent = `${what} on ${request.patchId === null ? 'the whole mesh' : `patch ${request.patchId}`}, ` +
-      `${run.method} method: ${integer.format(run.table.length)} passes (${closed} closed, ${run.table.length - closed} open) ` +
+      `${methodLabel(run)}: ${integer.format(run.table.length)} passes (${closed} closed, ${run.table.length - closed} open) ` +
       `${num(request.spacing * mm, 4)} mm apart, ${num(total * mm / 1000, 4)} m of path; farthest point ${num(run.maxDistance * mm, 4)} mm.` +
       (run.table.length && run.table[run.table.length - 1].level >= request.pathOptions.maxLevel ? ` Stopped at level ${request.pathOptions.maxLevel} (Most passes).` : '');
     const rows = run.table.slice(0, MAX_ROWS).map((p) => {
@@ -603,7 +608,7 @@ class PathsTool {
     const nodes = [];
     if (this.#result && v.showMap) {
       const max = this.#result.out.runs[0].maxDistance * this.#shell.mmPerUnit;
-      nodes.push(el('p', 'legend-title', `Geodesic distance from the source, mm (${this.#result.out.runs[0].method} method)`));
+      nodes.push(el('p', 'legend-title', `Geodesic distance from the source, mm (${methodLabel(this.#result.out.runs[0])})`));
       const bar = el('div', 'legend-bar');
       const stops = [0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1];
       bar.style.backgroundImage = `linear-gradient(to right, ${stops.map((t) => `rgb(${viridis(t).join(' ')}) ${100 * t}%`).join(', ')})`;

@@ -81,7 +81,7 @@ export const ops = {
         const f = ctx.mesh.geodesicDistance(src, params,
           (stage, fraction) => progress(`${METHOD_NAMES[method]} method: ${stage}`, (i + fraction) / methods.length));
         const ms = performance.now() - t0;
-        const run = { method, maxDistance: f.maxDistance, vertexDistance: f.vertexDistance(), ms, voxelCount: f.voxelCount };
+        const run = { method, ran: f.method, maxDistance: f.maxDistance, vertexDistance: f.vertexDistance(), ms, voxelCount: f.voxelCount };
         transfer.push(run.vertexDistance.buffer);
         if (i === 0) {
           kept = f;
