@@ -58,8 +58,8 @@ fn main() {
         };
         let (i, w) = (plan.quality.interior, plan.quality.whole);
         println!(
-            "{what}: {ms:8.1} ms; {} faces, {} samples; spacing {:.4}, {} passes, {} tried; interior δ {:.3} E {:.3} µm mean {:.2} µm; whole δ {:.3} E {:.3} µm min {:.2} max {:.2} µm",
-            faces.len(), plan.samples.positions.len(), plan.spacing, plan.pass_count, plan.iterations.len(),
+            "{what}: {ms:8.1} ms; {} faces, {} samples; spacing {:.4}, {} passes, cycle {:.1} s, spray path {:.2}, {} tried; interior δ {:.3} E {:.3} µm mean {:.2} µm; whole δ {:.3} E {:.3} µm min {:.2} max {:.2} µm",
+            faces.len(), plan.samples.positions.len(), plan.spacing, plan.pass_count, plan.cycle_time, plan.spray_length, plan.iterations.len(),
             i.error, i.std_dev * 1e6, i.mean * 1e6, w.error, w.std_dev * 1e6, w.min * 1e6, w.max * 1e6
         );
     };

@@ -228,3 +228,47 @@ test('one boundary loop of the cylinder: rings from one rim only', async () => {
   await page.selectOption('#paths-loop', 'all');
   assert.deepEqual(app.consoleErrors, []);
 });
+
+test('on a small model with corners the accurate method gives the exact distance and says so', async () => {
+  const { page } = app;
+  // A closed cube of side 40 mm, each face 4 × 4 squares, cut by the plane z = 20 through
+  // its centre: the farthest points, the centres of the top and bottom faces, are 20 + 20 mm
+  // away.
+  const s = 40, n = 4;
+  const faces = [ // origin, u, v of each face, outwards
+    [[0, 0, 0], [0, s, 0], [s, 0, 0]], [[0, 0, s], [s, 0, 0], [0, s, 0]],
+    [[0, 0, 0], [s, 0, 0], [0, 0, s]], [[0, s, 0], [0, 0, s], [s, 0, 0]],
+    [[0, 0, 0], [0, 0, s], [0, s, 0]], [[s, 0, 0], [0, s, 0], [0, 0, s]],
+  ];
+  const tris = [];
+  for (const [o, u, v] of faces) {
+    const p = (i, j) => [0, 1, 2].map((k) => o[k] + (u[k] * i + v[k] * j) / n);
+    for (let i = 0; i < n; i++) {
+      for (let j = 0; j < n; j++) tris.push(...p(i, j), ...p(i + 1, j), ...p(i + 1, j + 1), ...p(i, j), ...p(i + 1, j + 1), ...p(i, j + 1));
+    }
+  }
+  await page.setInputFiles('#file-input', { name: 'cube.stl', mimeType: 'model/stl', buffer: binaryStl(tris, 'cube for the paths test') });
+  await waitForModel(page, 'cube.stl');
+  await page.selectOption('#unit-select', 'mm');
+  await waitForReady(page);
+  await page.click('#tab-paths');
+  await page.check('#paths-form input[name="source"][value="plane"]');
+  await page.check('#paths-form input[name="scope"][value="mesh"]');
+  await page.selectOption('#paths-axis', 'z');
+  await page.check('#paths-form input[name="spacingMode"][value="spacing"]');
+  await page.fill('#paths-spacing', '7');
+  await page.check('#paths-form input[name="method"][value="accurate"]');
+  const runs = await page.evaluate(() => Number(document.body.dataset.pathsRuns ?? 0));
+  await page.click('#paths-run');
+  await page.waitForFunction((n) => Number(document.body.dataset.pathsRuns) === n + 1, runs, { timeout: 60_000 });
+  await waitForReady(page);
+  const summary = await page.textContent('#paths-summary');
+  assert.match(summary, /accurate method \(the exact distance: small surface with corners\)/);
+  const far = Number(summary.match(/farthest point ([\d.]+) mm/)[1]);
+  assert.ok(Math.abs(far - 40) < 1e-3, `farthest ${far}: ${summary}`);
+  // Levels 7, 14 (on the sides), 21, 28, 35 mm (squares on the top and bottom faces), twice.
+  const levels = await rows(page).evaluateAll((trs) => trs.map((tr) => Number(tr.dataset.level)).sort((a, b) => a - b));
+  assert.deepEqual(levels, [1, 1, 2, 2, 3, 3, 4, 4, 5, 5]);
+  assert.match(await page.textContent('#overlay-paths'), /\(accurate method \(the exact distance/);
+  assert.deepEqual(app.consoleErrors, []);
+});
