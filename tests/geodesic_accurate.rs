@@ -780,6 +780,52 @@ mod real_models {
     const BELOW_BOUND: Real = 1e-6;
 
     #[test]
+    fn an_exact_try_on_course_to_overrun_its_budget_gives_way_early() {
+        // From vertex 0 (the nose) of the wing-body model the exact method takes 161 windows
+        // per face, past the accurate method's 64: virtual sources answer. The exact try
+        // gives up once on course for 1.5 times its budget, with about a quarter of the
+        // vertices reached (at the budget itself it would have reached half).
+        let m = load("wingbody_79868_flow360.stl");
+        let source = GeodesicSource::Vertices(vec![0]);
+        let mut fractions = Vec::new();
+        let field = geodesic_distance(
+            &m.mesh,
+            &m.adjacency,
+            &source,
+            &DistanceParams::default(),
+            &mut |_, f| fractions.push(f),
+        )
+        .unwrap();
+        assert_eq!(field.method, Method::Accurate);
+        assert_eq!(field.windows, 0);
+        // The exact try reports the share of vertices it reached; the virtual sources then
+        // report their end (this mesh has too few vertices for reports between).
+        assert_eq!(fractions.last(), Some(&1.0));
+        let given_up_at = fractions
+            .iter()
+            .copied()
+            .filter(|&f| f < 1.0)
+            .fold(0.0, f64::max);
+        assert!(
+            given_up_at > 0.1 && given_up_at < 0.35,
+            "the exact try reached {given_up_at} of the vertices"
+        );
+        let virtual_only = DistanceParams {
+            exact_first_windows: Some(0),
+            ..DistanceParams::default()
+        };
+        let v = geodesic_distance(
+            &m.mesh,
+            &m.adjacency,
+            &source,
+            &virtual_only,
+            &mut |_, _| {},
+        )
+        .unwrap();
+        assert_eq!(field.vertex_distance, v.vertex_distance);
+    }
+
+    #[test]
     fn point_sources_on_whole_coarse_models_never_undercut_the_straight_line() {
         // Before point sources were unfolded across the faces around sharp vertices and
         // offers were checked against the far end of the edge they cross, the accurate

@@ -42,7 +42,9 @@ const EXACT_FIRST_FACES: usize = 100_000;
 /// however fine the mesh.
 const CORNER_DEFECT: Real = 0.05;
 /// Windows per face the exact method may process there (measured on whole aircraft models
-/// from a vertex: 19 per face on a BWB, 45 on a wing-body, 58 on Orion).
+/// from a vertex: 19–32 per face on a BWB, 45–46 on a wing-body, 35–59 on Orion). A try on
+/// course to overrun it gives up early (see `exact::PROJECTED_OVERRUN`): from the nose of the
+/// wing-body (161 per face) at 26 per face.
 const EXACT_FIRST_WINDOWS_PER_FACE: u64 = 64;
 
 /// Geodesic distance from a source, by the mesh or the voxel method.
@@ -103,7 +105,14 @@ pub fn geodesic_distance(
         Method::Accurate => {
             let exact_first = match exact_first_budget(&surface, params.exact_first_windows) {
                 Some(cap) => {
-                    match super::exact::propagate(&surface, &resolved, Some(cap), &mut *progress) {
+                    let run = super::exact::propagate(
+                        &surface,
+                        &resolved,
+                        Some(cap),
+                        true,
+                        &mut *progress,
+                    );
+                    match run {
                         Ok((d, stats)) => {
                             ran = Method::Exact;
                             windows = stats.windows;
@@ -131,7 +140,7 @@ pub fn geodesic_distance(
                 });
             }
             let (d, stats) =
-                super::exact::propagate(&surface, &resolved, params.max_windows, progress)?;
+                super::exact::propagate(&surface, &resolved, params.max_windows, false, progress)?;
             windows = stats.windows;
             (d, None)
         }

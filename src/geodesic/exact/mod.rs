@@ -69,6 +69,16 @@ const WINDOWS_PER_EDGE: Real = 64.0;
 const CAP_EDGES: Real = 1e4;
 /// Windows always allowed on top of the per-edge allowance.
 const WINDOW_CAP_BASE: u64 = 1 << 20;
+/// A run that may give up early (the accurate method's exact try, `field.rs`) stops once its
+/// windows exceed this many times the cap times the share of vertices reached: on course
+/// for that much more than the cap if the windows per vertex reached held. They grow as the
+/// front moves out, so runs that finish within the cap stay below it (on whole aircraft
+/// models from a vertex, at most 1.0 times the cap at any point), and a wing-body model from
+/// its vertex 0 (161 windows per face in all) stops at 26 per face instead of 64.
+const PROJECTED_OVERRUN: Real = 1.5;
+/// ...once the windows are at least this share of the cap (the first rings around a source
+/// take many windows per vertex reached).
+const PROJECTED_START: Real = 0.125;
 /// Width of a band of the window queue, in mean edge lengths (speed only: the order is the
 /// same for any width).
 const QUEUE_BAND: Real = 1.0 / 32.0;
@@ -464,11 +474,13 @@ impl<'a> Solver<'a> {
 }
 
 /// Exact geodesic distance per vertex from `source` on the active faces; `max_windows`
-/// overrides the default cap on windows processed.
+/// overrides the default cap on windows processed. With `projected`, the run also stops as
+/// soon as it is on course for more than [`PROJECTED_OVERRUN`] times the cap (see there).
 pub(crate) fn propagate(
     surface: &Surface,
     source: &ResolvedSource,
     max_windows: Option<u64>,
+    projected: bool,
     progress: Progress,
 ) -> Result<(Vec<Real>, Stats), GeodesicError> {
     let mut s = Solver::new(surface);
@@ -511,7 +523,17 @@ pub(crate) fn propagate(
             )));
         }
         if popped % PROGRESS_EVERY as u64 == 0 {
-            progress("distance", s.reached as f64 / active_vertices as f64);
+            let reached = s.reached as f64 / active_vertices as f64;
+            if projected
+                && popped as f64 > PROJECTED_START * cap as f64
+                && popped as f64 > PROJECTED_OVERRUN * cap as f64 * reached
+            {
+                return Err(GeodesicError::LimitExceeded(format!(
+                    "{popped} windows (max_windows {cap}) reached {:.0} % of the vertices",
+                    100.0 * reached
+                )));
+            }
+            progress("distance", reached);
         }
         match event {
             Event::Vertex(v) => {
