@@ -16,9 +16,11 @@
 // started after a full garbage collection and a pause (see settle), the three interleaved so
 // that load on a shared machine falls on all of them alike. `BENCH_STAGES=1 npm run bench` also
 // prints the median time of each stage, from the progress reports (see stageTimes).
-// Spray cases: a generated cylindrical skin panel; Mesh.fromStl as the yardstick, one
-// planSpray (plan + simulate at one spacing) and one spacing search (maxError 0.2), with the
-// evaluation samples per second of the single plan. `npm run bench -- spray` runs only those.
+// Spray cases: a generated cylindrical skin panel, a plate, and a real skin (the wing-body
+// model's largest patch, from the shared test models beside the project; skipped with a word
+// when they are not there); Mesh.fromStl as the yardstick, one planSpray (plan + simulate at
+// one spacing) and one spacing search (maxError 0.2), with the evaluation samples per second
+// of the single plan. `npm run bench -- spray` runs only those.
 // Geodesic cases: an open cylinder R 50 mm × 120 mm (the paper's model 2) with the bottom
 // ring as source, where the exact distance is z, and a wavy height field z = A·sin(2πx/λ)
 // extruded along y with the edge x = 0 as source, where it is the arc length of the profile;
@@ -26,7 +28,7 @@
 // GEODESIC_VOXEL mm, default 0.25), with time, WebAssembly memory and the largest error of the
 // path points against the analytic distance. `npm run bench -- geodesic` runs only those.
 import { execFileSync } from 'node:child_process';
-import { readFileSync } from 'node:fs';
+import { existsSync, readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { dirname, join } from 'node:path';
 
@@ -37,7 +39,10 @@ const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_0
 const SHAPES = ['fuselage', 'grid', 'fan', 'book', 'aircraft'];
 // A number: the curved panel of about that many triangles; `plate`: the 119k-triangle plate of
 // 2 mm triangles (0.49 m square) searched with maxError 0.10 on 30–250 mm.
-const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000,plate").split(",");
+const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000,plate,wingbody").split(",");
+/** The real skin of the spray cases: the largest patch of the wing-body model (a fuselage skin)
+ *  under the paper's segmentation, from the shared test models beside the project. */
+const WINGBODY = join(root, '..', 'shared', 'models', 'wingbody_79868_flow360.stl');
 const GEODESIC_CASES = (process.env.GEODESIC_CASES ?? "cylinder:200000,cylinder:2000000,wave:500000")
   .split(",").map((c) => { const [shape, size] = c.split(":"); return [shape, Number(size)]; });
 const GEODESIC_VOXEL = Number(process.env.GEODESIC_VOXEL ?? 0.25);
@@ -264,29 +269,42 @@ function plateStl(n, edge) {
 }
 
 async function runSpray(name) {
+  if (name === 'wingbody' && !existsSync(WINGBODY)) return { name, skipped: 'the shared test models (../shared/models) are not beside the project' };
   const { initSync, Mesh } = await import(join(root, 'dist/pkg/skinpath.js'));
   initSync({ module: readFileSync(join(root, 'dist/pkg/skinpath_bg.wasm')) });
   const plate = name === 'plate';
-  const bytes = plate ? plateStl(244, 0.002) : panelStl(Number(name));
+  const real = name === 'wingbody';
+  const bytes = real ? readFileSync(WINGBODY) : plate ? plateStl(244, 0.002) : panelStl(Number(name));
   const quality = plate ? { maxError: 0.1, minSpacing: 0.03, maxSpacing: 0.25 } : { maxError: 0.2 };
+  // The real skin: the paper's segmentation (α 0.35 rad, θmax 1 rad, 10 % area), its largest
+  // patch; segmentation is not timed.
+  const patchOf = (mesh) => {
+    if (!real) return undefined;
+    const seg = mesh.segment({ angleThreshold: 0.35, thetaMax: 1.0, minAreaRatio: 0.1 });
+    const faces = seg.patchFaces(0);
+    seg.free();
+    return faces;
+  };
   const triangles = (bytes.length - 84) / 50;
   // The yardstick is timed twice a run, once on each side of the search, so both see the
   // same load on a shared machine.
   const runs = triangles > 300_000 ? 1 : 5;
   const parse = [], plan = [], search = [];
-  let samples = 0, passes = 0, found = 0, tried = 0;
+  let samples = 0, passes = 0, found = 0, tried = 0, patchFaces = 0;
   for (let r = 0; r < runs; r++) {
     await settle();
     let t = performance.now();
     const mesh = Mesh.fromStl(bytes);
     parse.push(performance.now() - t);
+    const faces = patchOf(mesh);
+    patchFaces = faces ? faces.length : triangles;
     t = performance.now();
-    const one = mesh.planSpray(SPRAY);
+    const one = mesh.planSpray(SPRAY, faces);
     plan.push(performance.now() - t);
     samples = one.sampleThickness().length;
     one.free();
     t = performance.now();
-    const best = mesh.planSpray({ ...SPRAY, quality });
+    const best = mesh.planSpray({ ...SPRAY, quality }, faces);
     search.push(performance.now() - t);
     passes = best.passCount; found = best.spacing; tried = best.iterations().length;
     best.free(); mesh.free();
@@ -295,7 +313,7 @@ async function runSpray(name) {
     parse.push(performance.now() - t);
   }
   const [p, q, s] = [median(parse), median(plan), median(search)];
-  return { name, triangles, fromStl: p, plan: q, search: s, ratio: s / p, samples, samplesPerSecond: samples / (q / 1000),
+  return { name, triangles: real ? `${patchFaces}/${triangles}` : triangles, fromStl: p, plan: q, search: s, ratio: s / p, samples, samplesPerSecond: samples / (q / 1000),
     passes, spacing: found, tried };
 }
 
@@ -514,13 +532,19 @@ if (geodesicArg > 0) {
     }
   }
   if ((!chosen.length && !only) || args.includes('spray')) {
-    console.log('\nspray on a curved panel (2 × 2.5 m, page defaults; search with maxError 0.2) and on a plate of 2 mm triangles (0.49 m square; maxError 0.10 on 30–250 mm)');
+    console.log('\nspray on a curved panel (2 × 2.5 m, page defaults; search with maxError 0.2), on a plate of 2 mm triangles (0.49 m square; maxError 0.10 on 30–250 mm)' +
+      ' and on a real skin (the wing-body model\'s largest patch, a fuselage skin: patch/model triangles; page defaults, maxError 0.2; fromStl of the whole model)');
     console.log('      triangles   fromStl ms   plan ms   search ms  search/fromStl  eval samples  samples/s (plan)  passes  spacing m  tried');
     for (const size of SPRAY_CASES) {
       const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
         fileURLToPath(import.meta.url), '--spray', String(size)], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
       const r = JSON.parse(out);
-      console.log(`${(r.name === 'plate' ? 'plate ' : 'panel ') + String(r.triangles).padStart(9)}  ${r.fromStl.toFixed(1).padStart(11)}  ${r.plan.toFixed(1).padStart(8)}` +
+      if (r.skipped) {
+        console.log(`${r.name.padEnd(15)}  skipped: ${r.skipped}`);
+        continue;
+      }
+      const label = r.name === 'plate' ? 'plate ' : r.name === 'wingbody' ? 'skin ' : 'panel ';
+      console.log(`${label + String(r.triangles).padStart(label === 'skin ' ? 10 : 9)}  ${r.fromStl.toFixed(1).padStart(11)}  ${r.plan.toFixed(1).padStart(8)}` +
         `  ${r.search.toFixed(1).padStart(10)}  ${r.ratio.toFixed(1).padStart(14)}  ${String(r.samples).padStart(12)}` +
         `  ${r.samplesPerSecond.toFixed(0).padStart(16)}  ${String(r.passes).padStart(6)}  ${r.spacing.toFixed(4).padStart(9)}  ${String(r.tried).padStart(5)}`);
     }
