@@ -543,8 +543,9 @@ if (geodesicArg > 0) {
         console.log(`${r.name.padEnd(15)}  skipped: ${r.skipped}`);
         continue;
       }
-      const label = r.name === 'plate' ? 'plate ' : r.name === 'wingbody' ? 'skin ' : 'panel ';
-      console.log(`${label + String(r.triangles).padStart(label === 'skin ' ? 10 : 9)}  ${r.fromStl.toFixed(1).padStart(11)}  ${r.plan.toFixed(1).padStart(8)}` +
+      const label = r.name === 'plate' ? 'plate' : r.name === 'wingbody' ? 'skin' : 'panel';
+      // The triangle count (patch/model for the skin) right-aligned in 15 columns.
+      console.log(`${label.padEnd(15 - String(r.triangles).length)}${r.triangles}  ${r.fromStl.toFixed(1).padStart(11)}  ${r.plan.toFixed(1).padStart(8)}` +
         `  ${r.search.toFixed(1).padStart(10)}  ${r.ratio.toFixed(1).padStart(14)}  ${String(r.samples).padStart(12)}` +
         `  ${r.samplesPerSecond.toFixed(0).padStart(16)}  ${String(r.passes).padStart(6)}  ${r.spacing.toFixed(4).padStart(9)}  ${String(r.tried).padStart(5)}`);
     }

@@ -193,8 +193,7 @@ fn exact_first_budget(surface: &Surface, given: Option<u64>) -> Option<u64> {
     }
     let cornered = (0..surface.mesh.vertex_count()).any(|v| {
         !surface.faces_of(v).is_empty()
-            && super::unfolding::angle_sum(surface, v)
-                .is_some_and(|a| (2.0 * std::f64::consts::PI - a).abs() > CORNER_DEFECT)
+            && super::unfolding::angle_defect(surface, v).is_some_and(|d| d.abs() > CORNER_DEFECT)
     });
     cornered.then_some(EXACT_FIRST_WINDOWS_PER_FACE * faces as u64)
 }

@@ -36,7 +36,7 @@
 use super::fronts;
 use super::params::GeodesicError;
 use super::surface::Surface;
-use super::unfolding::angle_sum;
+use super::unfolding::angle_defect;
 use super::virtual_source::{foot, Solver, Virtual};
 use crate::math::{Point3, Real, Vector3};
 use crate::mesh::{FaceAdjacency, TriMesh};
@@ -326,10 +326,10 @@ fn unfolding_error(s: &Solver, ring: &[u32]) -> Real {
         .step_by(ring.len().div_ceil(BIAS_SAMPLES).max(1))
     {
         let v = v as usize;
-        let (Some(angles), true) = (angle_sum(surface, v), s.dist[v].is_finite()) else {
+        let (Some(d), true) = (angle_defect(surface, v), s.dist[v].is_finite()) else {
             continue;
         };
-        defect += 2.0 * std::f64::consts::PI as Real - angles;
+        defect += d;
         for &f in surface.faces_of(v) {
             area += surface.mesh.scaled_normal(f as usize).norm() / 6.0;
         }

@@ -271,6 +271,12 @@ pub(crate) fn propagate(
     Ok(dist)
 }
 
+/// The angle defect at `v`, 2π less the sum of its face angles (positive at a cone vertex,
+/// negative at a saddle), `None` on the boundary of the active faces.
+pub(super) fn angle_defect(surface: &Surface, v: usize) -> Option<Real> {
+    angle_sum(surface, v).map(|a| 2.0 * std::f64::consts::PI - a)
+}
+
 /// The sum of the face angles at `v`, `None` when `v` lies on the boundary of the active
 /// faces.
 pub(super) fn angle_sum(surface: &Surface, v: usize) -> Option<Real> {

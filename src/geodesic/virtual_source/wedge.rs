@@ -118,8 +118,7 @@ impl Solver<'_> {
 
     /// |Angle defect| at `v` (`∞` on the boundary of the active faces).
     fn defect_uncached(&self, v: usize) -> Real {
-        super::super::unfolding::angle_sum(self.surface, v)
-            .map_or(Real::INFINITY, |a| (2.0 * std::f64::consts::PI - a).abs())
+        super::super::unfolding::angle_defect(self.surface, v).map_or(Real::INFINITY, Real::abs)
     }
 
     /// Whether a point source at distance `reach` from `v`, unfolded on the wrong side of `v`
