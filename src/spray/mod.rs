@@ -20,7 +20,8 @@ mod speed;
 mod trajectory;
 
 pub use deposition::{
-    deposit, time_sample_count, SprayModel, CHUNK_RADIUS_RATIO, CHUNK_TURN_RAD, MAX_AXIAL_RATIO,
+    deposit, time_sample_count, SprayModel, CHORD_TOLERANCE_RATIO, CHUNK_RADIUS_RATIO,
+    CHUNK_TURN_RAD, MAX_AXIAL_RATIO,
 };
 pub use grid::PointGrid;
 pub use params::{

@@ -32,8 +32,10 @@
 //! Output: [`SpeedPlan`]: the path with its per-move speeds, the thickness they give.
 //! Cost:   building the coating matrix is one deposition, its chords cut where the piece
 //!         changes (about `2R/L + 1` pieces reach each sample per pass, `L` the piece
-//!         length); `H` costs the sum over samples of (pieces reaching it)², once per
-//!         weighting; each sweep is linear in the non-zeros of `H`.
+//!         length), its columns filled in path order (no sort of all entries); `H` is
+//!         symmetric and only its upper triangle is summed: about half the sum over samples
+//!         of (pieces reaching it)², once per weighting; each sweep is linear in the
+//!         non-zeros of `H`.
 
 use super::deposition::{check_time_samples, deposit_piece, for_each_segmented_piece, SprayModel};
 use super::grid::PointGrid;
@@ -215,16 +217,52 @@ fn coating_matrix(
     v_ref: Real,
     step_length: Real,
 ) -> Coating {
-    // Entries as they come (piece, sample, value), a sample possibly more than once per
-    // piece; the deposition's own pieces are longer than the speed pieces and are cut where
-    // the speed piece changes.
-    let mut entries: Vec<(u32, u32, Real)> = Vec::new();
+    // Columns are filled in order: the speed pieces follow the path, and so do the
+    // deposition's own pieces (longer, cut where the speed piece changes), so the pieces a
+    // deposition piece reaches never precede those of the one before. Each deposition
+    // piece's entries (segment, sample, value) are grouped by segment and appended to their
+    // columns; a column is closed, its repeats of a sample summed in the order they came,
+    // once a later piece is reached.
+    let n = samples.positions.len();
     let per_speed = 1.0 / v_ref;
+    let mut start: Vec<usize> = Vec::with_capacity(pieces + 1);
+    start.push(0);
+    let mut rows: Vec<u32> = Vec::new();
+    let mut values: Vec<Real> = Vec::new();
+    let mut slot = vec![u32::MAX; n];
+    // The column being filled (its entries from start[open] on).
+    let mut open = 0usize;
+    let mut close = |rows: &mut Vec<u32>, values: &mut Vec<Real>, start: &mut Vec<usize>| {
+        let from = start[start.len() - 1];
+        let mut kept = from;
+        for e in from..rows.len() {
+            let i = rows[e] as usize;
+            match slot[i] {
+                u32::MAX => {
+                    slot[i] = kept as u32;
+                    rows[kept] = rows[e];
+                    values[kept] = values[e];
+                    kept += 1;
+                }
+                s => values[s as usize] += values[e],
+            }
+        }
+        for &i in &rows[from..kept] {
+            slot[i as usize] = u32::MAX;
+        }
+        rows.truncate(kept);
+        values.truncate(kept);
+        start.push(kept);
+    };
+    let mut entries: Vec<(u32, u32, Real)> = Vec::new();
+    let mut count: Vec<usize> = Vec::new();
+    let mut grouped: Vec<(u32, Real)> = Vec::new();
     for_each_segmented_piece(
         path,
         model,
         |k| piece_of[k],
         |range, cumulative, starts, owner| {
+            entries.clear();
             deposit_piece(
                 &path.poses[range],
                 cumulative,
@@ -234,46 +272,44 @@ fn coating_matrix(
                 model,
                 step_length,
                 None,
-                |i, segment, v| entries.push((owner[segment], i as u32, v * per_speed)),
+                |i, segment, v| entries.push((segment as u32, i as u32, v * per_speed)),
             );
+            // Counting sort by segment (stable: each column keeps the order entries came).
+            count.clear();
+            count.resize(owner.len() + 1, 0);
+            for &(s, _, _) in &entries {
+                count[s as usize + 1] += 1;
+            }
+            for s in 0..owner.len() {
+                count[s + 1] += count[s];
+            }
+            grouped.clear();
+            grouped.resize(entries.len(), (0, 0.0));
+            for &(s, i, v) in &entries {
+                grouped[count[s as usize]] = (i, v);
+                count[s as usize] += 1;
+            }
+            // count[s] is now the end of segment s's entries.
+            let mut from = 0;
+            for (s, &j) in owner.iter().enumerate() {
+                let to = count[s];
+                if to > from {
+                    let j = j as usize;
+                    while open < j {
+                        close(&mut rows, &mut values, &mut start);
+                        open += 1;
+                    }
+                    for &(i, v) in &grouped[from..to] {
+                        rows.push(i);
+                        values.push(v);
+                    }
+                }
+                from = to;
+            }
         },
     );
-    // Counting sort by piece, then the repeats of a sample within a column summed.
-    let mut start = vec![0usize; pieces + 1];
-    for &(j, _, _) in &entries {
-        start[j as usize + 1] += 1;
-    }
-    for j in 0..pieces {
-        start[j + 1] += start[j];
-    }
-    let mut fill = start.clone();
-    let mut sorted: Vec<(u32, Real)> = vec![(0, 0.0); entries.len()];
-    for &(j, i, v) in &entries {
-        sorted[fill[j as usize]] = (i, v);
-        fill[j as usize] += 1;
-    }
-    drop(entries);
-    let mut slot = vec![u32::MAX; samples.positions.len()];
-    let mut rows: Vec<u32> = Vec::with_capacity(sorted.len());
-    let mut values: Vec<Real> = Vec::with_capacity(sorted.len());
-    let mut merged = Vec::with_capacity(pieces + 1);
-    merged.push(0);
-    for j in 0..pieces {
-        let from = rows.len();
-        for &(i, v) in &sorted[start[j]..start[j + 1]] {
-            match slot[i as usize] {
-                u32::MAX => {
-                    slot[i as usize] = rows.len() as u32;
-                    rows.push(i);
-                    values.push(v);
-                }
-                s => values[s as usize] += v,
-            }
-        }
-        for &i in &rows[from..] {
-            slot[i as usize] = u32::MAX;
-        }
-        merged.push(rows.len());
+    while start.len() <= pieces {
+        close(&mut rows, &mut values, &mut start);
     }
     // Piece j is linked to j + 1 when a gun-on move of j is followed by one of j + 1.
     let mut linked_to_next = vec![false; pieces];
@@ -284,18 +320,22 @@ fn coating_matrix(
         }
     }
     Coating {
-        start: merged,
+        start,
         rows,
         values,
         linked_to_next,
     }
 }
 
-/// The coating matrix row by row (sample by sample), for the normal equations.
+/// The coating matrix row by row (sample by sample), for the normal equations. Each row
+/// lists its pieces in increasing order.
 struct Rows {
     start: Vec<usize>,
     pieces: Vec<u32>,
     values: Vec<Real>,
+    /// For each entry of the coating matrix (by column), where it lies in its row: the
+    /// row's entries from there on are those of the same or later pieces.
+    position: Vec<u32>,
 }
 
 impl Rows {
@@ -310,12 +350,14 @@ impl Rows {
         let mut fill = start.clone();
         let mut pieces = vec![0u32; c.rows.len()];
         let mut values = vec![0.0; c.rows.len()];
+        let mut position = vec![0u32; c.rows.len()];
+        // Columns in increasing order: each row receives its pieces in increasing order.
         for j in 0..c.pieces() {
-            let (rows, vals) = c.column(j);
-            for (&i, &v) in rows.iter().zip(vals) {
-                let at = &mut fill[i as usize];
+            for p in c.start[j]..c.start[j + 1] {
+                let at = &mut fill[c.rows[p] as usize];
                 pieces[*at] = j as u32;
-                values[*at] = v;
+                values[*at] = c.values[p];
+                position[p] = *at as u32;
                 *at += 1;
             }
         }
@@ -323,12 +365,8 @@ impl Rows {
             start,
             pieces,
             values,
+            position,
         }
-    }
-
-    fn row(&self, i: usize) -> (&[u32], &[Real]) {
-        let r = self.start[i]..self.start[i + 1];
-        (&self.pieces[r.clone()], &self.values[r])
     }
 }
 
@@ -344,125 +382,180 @@ struct Problem<'a> {
     mu: Real,
 }
 
-/// `H` by column, with its diagonal.
-struct Gram {
+/// Where the entries of `H` lie: by column in full, and its upper triangle (pieces `k ≥ j`
+/// of column `j`), which is what is summed (`H` is symmetric), each entry with the places
+/// of its value in the full columns (twice off the diagonal).
+struct Pattern {
     start: Vec<usize>,
     pieces: Vec<u32>,
+    upper_start: Vec<usize>,
+    upper_pieces: Vec<u32>,
+    upper_at: Vec<[usize; 2]>,
+}
+
+/// The values of `H` on a [`Pattern`], with its diagonal.
+struct Gram {
     values: Vec<Real>,
     diagonal: Vec<Real>,
 }
 
 impl Problem<'_> {
-    /// Adds column `j` of `H` for the sample weights `w` into the dense `acc`, calling
-    /// `touch(k)` before each entry `k` it adds to.
+    /// Adds the upper part of column `j` of `H` (pieces `k ≥ j`) for the sample weights `w`
+    /// into the dense `acc`, calling `touch(k)` before each entry `k` it adds to.
     fn accumulate(&self, j: usize, w: &[Real], acc: &mut [Real], mut touch: impl FnMut(usize)) {
         let c = self.coating;
-        let (rows, vals) = c.column(j);
-        for (&i, &a) in rows.iter().zip(vals) {
-            let wa = w[i as usize] * a;
+        for p in c.start[j]..c.start[j + 1] {
+            let i = c.rows[p] as usize;
+            let wa = w[i] * c.values[p];
             if wa == 0.0 {
                 continue;
             }
-            let (ks, bs) = self.rows.row(i as usize);
-            for (&k, &b) in ks.iter().zip(bs) {
+            // The row from piece j on (its pieces increase).
+            let r = self.rows.position[p] as usize..self.rows.start[i + 1];
+            for (&k, &b) in self.rows.pieces[r.clone()].iter().zip(&self.rows.values[r]) {
                 touch(k as usize);
                 acc[k as usize] += wa * b;
             }
         }
-        for (linked, k) in [
-            (j > 0 && c.linked_to_next[j - 1], j.wrapping_sub(1)),
-            (c.linked_to_next[j], j + 1),
-        ] {
-            if linked {
-                touch(j);
-                acc[j] += self.mu;
-                touch(k);
-                acc[k] -= self.mu;
-            }
+        // The smoothing: μ on the diagonal per link, −μ towards the next piece (the link to
+        // the previous one is that piece's upper entry).
+        let links =
+            usize::from(j > 0 && c.linked_to_next[j - 1]) + usize::from(c.linked_to_next[j]);
+        if links > 0 {
+            touch(j);
+            acc[j] += self.mu * links as Real;
+        }
+        if c.linked_to_next[j] {
+            touch(j + 1);
+            acc[j + 1] -= self.mu;
         }
     }
 
-    /// `H` for the sample weights `w`.
-    fn gram(&self, w: &[Real]) -> Gram {
+    /// `H` for the sample weights `w`, and where its entries lie.
+    fn gram(&self, w: &[Real]) -> (Pattern, Gram) {
         let m = self.coating.pieces();
-        let mut pattern = Gram {
-            start: Vec::with_capacity(m + 1),
-            pieces: Vec::new(),
-            values: Vec::new(),
-            diagonal: Vec::new(),
-        };
-        pattern.start.push(0);
+        let mut upper_start = Vec::with_capacity(m + 1);
+        upper_start.push(0);
+        let mut upper_pieces: Vec<u32> = Vec::new();
+        let mut upper_values: Vec<Real> = Vec::new();
         let mut acc = vec![0.0; m];
         let mut seen = vec![false; m];
-        pattern.diagonal = vec![0.0; m];
         for j in 0..m {
-            let from = pattern.pieces.len();
+            let from = upper_pieces.len();
             self.accumulate(j, w, &mut acc, |k| {
                 if !seen[k] {
                     seen[k] = true;
-                    pattern.pieces.push(k as u32);
+                    upper_pieces.push(k as u32);
                 }
             });
             // The same sums as [`Problem::regram`] forms on this pattern.
-            for &k in &pattern.pieces[from..] {
+            for &k in &upper_pieces[from..] {
                 let k = k as usize;
-                pattern.values.push(acc[k]);
-                if k == j {
-                    pattern.diagonal[j] = acc[k];
-                }
+                upper_values.push(acc[k]);
                 seen[k] = false;
                 acc[k] = 0.0;
             }
-            pattern.start.push(pattern.pieces.len());
+            upper_start.push(upper_pieces.len());
         }
-        pattern
+        // The full columns: column j holds its upper entries and, mirrored, the entries j of
+        // the columns before it.
+        let mut start = vec![0usize; m + 1];
+        for j in 0..m {
+            for &k in &upper_pieces[upper_start[j]..upper_start[j + 1]] {
+                start[j + 1] += 1;
+                if k as usize != j {
+                    start[k as usize + 1] += 1;
+                }
+            }
+        }
+        for j in 0..m {
+            start[j + 1] += start[j];
+        }
+        let mut fill = start.clone();
+        let mut pieces = vec![0u32; start[m]];
+        let mut upper_at = vec![[0usize; 2]; upper_pieces.len()];
+        for j in 0..m {
+            for e in upper_start[j]..upper_start[j + 1] {
+                let k = upper_pieces[e] as usize;
+                let a = fill[j];
+                pieces[a] = k as u32;
+                fill[j] += 1;
+                let b = if k != j {
+                    let b = fill[k];
+                    pieces[b] = j as u32;
+                    fill[k] += 1;
+                    b
+                } else {
+                    a
+                };
+                upper_at[e] = [a, b];
+            }
+        }
+        let pattern = Pattern {
+            start,
+            pieces,
+            upper_start,
+            upper_pieces,
+            upper_at,
+        };
+        let mut values = vec![0.0; pattern.pieces.len()];
+        let mut diagonal = vec![0.0; m];
+        for (j, d) in diagonal.iter_mut().enumerate() {
+            let r = pattern.upper_start[j]..pattern.upper_start[j + 1];
+            let upper = pattern.upper_pieces[r.clone()]
+                .iter()
+                .zip(&pattern.upper_at[r.clone()])
+                .zip(&upper_values[r]);
+            for ((&k, &[a, b]), &v) in upper {
+                values[a] = v;
+                values[b] = v;
+                if k as usize == j {
+                    *d = v;
+                }
+            }
+        }
+        (pattern, Gram { values, diagonal })
     }
 
-    /// `H` for the sample weights `w` on the sparsity of `pattern`, an `H` built for weights
-    /// that are zero on the same samples (or on fewer): no bookkeeping of which entries a
-    /// column touches.
-    fn regram(&self, w: &[Real], pattern: &Gram) -> Gram {
+    /// `H` for the sample weights `w` on `pattern`, built for weights that are zero on the
+    /// same samples (or on fewer): no bookkeeping of which entries a column touches.
+    fn regram(&self, w: &[Real], pattern: &Pattern) -> Gram {
         let m = self.coating.pieces();
         let mut values = vec![0.0; pattern.pieces.len()];
         let mut diagonal = vec![0.0; m];
         let mut acc = vec![0.0; m];
         for (j, d) in diagonal.iter_mut().enumerate() {
             self.accumulate(j, w, &mut acc, |_| {});
-            let r = pattern.start[j]..pattern.start[j + 1];
-            for (v, &k) in values[r.clone()].iter_mut().zip(&pattern.pieces[r]) {
-                let k = k as usize;
-                *v = acc[k];
+            for e in pattern.upper_start[j]..pattern.upper_start[j + 1] {
+                let k = pattern.upper_pieces[e] as usize;
+                let v = acc[k];
+                let [a, b] = pattern.upper_at[e];
+                values[a] = v;
+                values[b] = v;
                 if k == j {
-                    *d = acc[k];
+                    *d = v;
                 }
                 acc[k] = 0.0;
             }
         }
-        Gram {
-            start: pattern.start.clone(),
-            pieces: pattern.pieces.clone(),
-            values,
-            diagonal,
-        }
+        Gram { values, diagonal }
     }
 
-    /// Cyclic coordinate descent from `x` with residuals `r = T − T*` and sample weights
-    /// `w`; at most `sweeps` sweeps. `r` is brought up to date at the end. `H` is built on
-    /// the sparsity of `pattern` when given (see [`Problem::regram`]); returns it.
+    /// Cyclic coordinate descent from `x` with residuals `r = T − T*`, sample weights `w` and
+    /// `H` for them on `pattern`; at most `sweeps` sweeps. `r` is brought up to date at the
+    /// end.
+    #[allow(clippy::too_many_arguments)]
     fn descend(
         &self,
         x: &mut [Real],
         r: &mut [Real],
         w: &[Real],
         sweeps: usize,
-        pattern: Option<&Gram>,
-    ) -> Gram {
+        pattern: &Pattern,
+        h: &Gram,
+    ) {
         let c = self.coating;
         let m = c.pieces();
-        let h = match pattern {
-            Some(p) => self.regram(w, p),
-            None => self.gram(w),
-        };
         // Gradient (halved): CᵀW r + μ L x.
         let mut g: Vec<Real> = (0..m)
             .map(|j| {
@@ -492,8 +585,8 @@ impl Problem<'_> {
                 let d = new - x[j];
                 if d != 0.0 {
                     x[j] = new;
-                    let r = h.start[j]..h.start[j + 1];
-                    for (&k, &v) in h.pieces[r.clone()].iter().zip(&h.values[r]) {
+                    let r = pattern.start[j]..pattern.start[j + 1];
+                    for (&k, &v) in pattern.pieces[r.clone()].iter().zip(&h.values[r]) {
                         g[k as usize] += v * d;
                     }
                     largest = largest.max(d.abs());
@@ -513,7 +606,6 @@ impl Problem<'_> {
                 }
             }
         }
-        h
     }
 }
 
@@ -615,7 +707,8 @@ pub fn optimise_speeds(
     };
     if aim > 0.0 && mean_diagonal > 0.0 {
         // Step 1: least squares.
-        let pattern = problem.descend(&mut x, &mut r, &base, MAX_SWEEPS, None);
+        let (pattern, h) = problem.gram(&base);
+        problem.descend(&mut x, &mut r, &base, MAX_SWEEPS, &pattern, &h);
         // Step 2: Lawson's reweighting towards the smallest max deviation.
         let stats_of = |r: &[Real]| {
             let t: Vec<Real> = r.iter().map(|d| d + aim).collect();
@@ -646,7 +739,8 @@ pub fn optimise_speeds(
             if sw > 0.0 {
                 w.iter_mut().for_each(|wi| *wi *= sb / sw);
             }
-            problem.descend(&mut x, &mut r, &w, ROUND_SWEEPS, Some(&pattern));
+            let h = problem.regram(&w, &pattern);
+            problem.descend(&mut x, &mut r, &w, ROUND_SWEEPS, &pattern, &h);
             let s = score(&stats_of(&r));
             if s < best.0 {
                 best = (s, x.clone(), r.clone());
@@ -686,6 +780,7 @@ pub fn optimise_speeds(
 
 #[cfg(test)]
 mod tests {
+    use super::super::grid::PointGrid;
     use super::*;
     use crate::math::Point3;
     use crate::toolpath::PoseKind;
@@ -697,6 +792,184 @@ mod tests {
             travel: Vector3::x(),
             kind,
             pass: 0,
+        }
+    }
+
+    /// A small linear congruential sequence in [0, 1).
+    fn sequence(seed: u64) -> impl FnMut() -> Real {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as Real / (1u64 << 53) as Real
+        }
+    }
+
+    /// `H` summed over its upper triangle and mirrored is the dense `CᵀWC + μL`, exactly
+    /// symmetric, for the first weights and for others on the same pattern.
+    #[test]
+    // Dense matrices read best indexed.
+    #[allow(clippy::needless_range_loop)]
+    fn the_normal_equations_are_the_dense_product_and_symmetric() {
+        let (m, n, mu) = (7usize, 12usize, 0.3);
+        let mut next = sequence(7);
+        // Piece j reaches the samples within 2 of 2j − 1, listed from the last.
+        let mut dense = vec![vec![0.0; m]; n];
+        let (mut start, mut rows, mut values) = (vec![0usize], Vec::new(), Vec::new());
+        for j in 0..m {
+            for i in (0..n).rev() {
+                if (i as i64 - 2 * j as i64 + 1).abs() <= 2 {
+                    let v = 0.5 + next();
+                    dense[i][j] = v;
+                    rows.push(i as u32);
+                    values.push(v);
+                }
+            }
+            start.push(rows.len());
+        }
+        let coating = Coating {
+            start,
+            rows,
+            values,
+            linked_to_next: vec![true, true, false, true, true, true, false],
+        };
+        let rows = Rows::of(&coating, n);
+        let problem = Problem {
+            coating: &coating,
+            rows: &rows,
+            lo: 0.5,
+            hi: 2.0,
+            mu,
+        };
+        let reference = |w: &[Real]| {
+            let mut h = vec![vec![0.0; m]; m];
+            for (j, hj) in h.iter_mut().enumerate() {
+                for (k, hjk) in hj.iter_mut().enumerate() {
+                    *hjk = (0..n)
+                        .map(|i| w[i] * dense[i][j] * dense[i][k])
+                        .sum::<Real>();
+                }
+            }
+            for j in 0..m - 1 {
+                if coating.linked_to_next[j] {
+                    h[j][j] += mu;
+                    h[j + 1][j + 1] += mu;
+                    h[j][j + 1] -= mu;
+                    h[j + 1][j] -= mu;
+                }
+            }
+            h
+        };
+        let check = |pattern: &Pattern, gram: &Gram, w: &[Real]| {
+            let h = reference(w);
+            let mut found = vec![vec![None; m]; m];
+            for j in 0..m {
+                for e in pattern.start[j]..pattern.start[j + 1] {
+                    found[pattern.pieces[e] as usize][j] = Some(gram.values[e]);
+                }
+            }
+            for j in 0..m {
+                assert!((gram.diagonal[j] - h[j][j]).abs() <= 1e-12, "diagonal {j}");
+                for k in 0..m {
+                    match found[k][j] {
+                        Some(v) => {
+                            assert!((v - h[k][j]).abs() <= 1e-12, "H[{k}][{j}] {v} {}", h[k][j]);
+                            assert_eq!(found[j][k].map(Real::to_bits), Some(v.to_bits()));
+                        }
+                        None => assert_eq!(h[k][j], 0.0, "H[{k}][{j}] left out"),
+                    }
+                }
+            }
+        };
+        // Sample 3 carries no weight: pieces meeting only there are not coupled.
+        let weights = |next: &mut dyn FnMut() -> Real| {
+            (0..n)
+                .map(|i| if i == 3 { 0.0 } else { 0.5 + next() })
+                .collect::<Vec<Real>>()
+        };
+        let w = weights(&mut next);
+        let (pattern, gram) = problem.gram(&w);
+        check(&pattern, &gram, &w);
+        let w2 = weights(&mut next);
+        check(&pattern, &problem.regram(&w2, &pattern), &w2);
+    }
+
+    /// The coating matrix, its columns filled in path order, times any dwell factors is the
+    /// deposition of the path at the speeds they give, on a pass that steps sideways and
+    /// tilts its axis (pieces of the deposition and speed pieces cut across each other).
+    #[test]
+    fn the_coating_matrix_is_the_deposition_piece_by_piece() {
+        let model = SprayModel {
+            radius: 0.4,
+            peak_rate: 1.0,
+            standoff: 1.0,
+        };
+        let mut poses = vec![pose(-0.1, PoseKind::Link), pose(0.0, PoseKind::Link)];
+        for k in 1..=60 {
+            let x = 0.04 * k as Real;
+            let mut p = pose(x, PoseKind::Pass);
+            p.position.y = if k % 2 == 0 { 0.001 } else { 0.0 };
+            p.axis = Vector3::new(0.0, 0.2 * (x / 2.4).sin(), -1.0).normalize();
+            poses.push(p);
+        }
+        let path = ToolPath {
+            poses,
+            speed: 1.0,
+            link_speed: 1.0,
+            speeds: Vec::new(),
+            notes: Vec::new(),
+        };
+        let max_length = PIECE_RADIUS_RATIO * model.radius;
+        let path = split_long_moves(&path, max_length);
+        let (piece_of, pieces) = assign_pieces(&path, max_length);
+        assert!(pieces > 4, "{pieces} pieces");
+        let mut samples = EvaluationSamples::default();
+        for i in 0..=130 {
+            for j in 0..=40 {
+                samples.positions.push(Point3::new(
+                    0.02 * i as Real - 0.2,
+                    0.02 * j as Real - 0.4,
+                    0.0,
+                ));
+                samples.normals.push(Vector3::z());
+                samples.weights.push(4e-4);
+            }
+        }
+        let grid = PointGrid::new(&samples.positions, 0.5 * model.radius);
+        let v_ref = 2.0;
+        let coating = coating_matrix(
+            &path, &piece_of, pieces, &samples, &grid, &model, v_ref, 1.0,
+        );
+        for j in 0..pieces {
+            let (rows, _) = coating.column(j);
+            let mut sorted = rows.to_vec();
+            sorted.sort_unstable();
+            sorted.dedup();
+            assert_eq!(sorted.len(), rows.len(), "column {j} repeats a sample");
+        }
+        let mut next = sequence(11);
+        let x: Vec<Real> = (0..pieces).map(|_| 0.5 + next()).collect();
+        let mut slowed = path.clone();
+        slowed.speeds = piece_of
+            .iter()
+            .map(|&j| {
+                if j == NO_PIECE {
+                    1.0
+                } else {
+                    v_ref / x[j as usize]
+                }
+            })
+            .collect();
+        let n = samples.positions.len();
+        let expected =
+            super::super::deposition::deposit(&slowed, &samples, &grid, &model, v_ref, 1.0)
+                .unwrap();
+        let got = coating.thickness(&x, n);
+        let peak = expected.iter().fold(0.0_f64, |m, &t| m.max(t));
+        assert!(peak > 0.0);
+        for (a, b) in got.iter().zip(&expected) {
+            assert!((a - b).abs() <= 1e-12 * peak, "{a} against {b}");
         }
     }
 
