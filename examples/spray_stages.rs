@@ -98,9 +98,10 @@ fn main() {
             return;
         }
     }
+    let max_error = env_or("MAX_ERROR", 0.2);
     let q = SprayParams {
         quality: Some(QualityLimits {
-            max_error: Some(env_or("MAX_ERROR", 0.2)),
+            max_error: Some(max_error),
             min_spacing: std::env::var("MIN_SPACING")
                 .ok()
                 .and_then(|v| v.parse().ok()),
@@ -116,7 +117,7 @@ fn main() {
     let best = plan_spray(&mesh, &adjacency, &geometry, &faces, &q, &mut |_, _| {})
         .unwrap_or_else(|e| panic!("search failed: {e}"));
     report(
-        "search δ≤0.2",
+        &format!("search δ≤{max_error}"),
         &best,
         if cpu {
             c0
