@@ -230,8 +230,7 @@ fn coating_matrix(
     let mut rows: Vec<u32> = Vec::new();
     let mut values: Vec<Real> = Vec::new();
     let mut slot = vec![u32::MAX; n];
-    // The column being filled (its entries from start[open] on).
-    let mut open = 0usize;
+    // The column being filled is start.len() − 1, its entries from start[start.len() − 1] on.
     let mut close = |rows: &mut Vec<u32>, values: &mut Vec<Real>, start: &mut Vec<usize>| {
         let from = start[start.len() - 1];
         let mut kept = from;
@@ -295,9 +294,9 @@ fn coating_matrix(
                 let to = count[s];
                 if to > from {
                     let j = j as usize;
-                    while open < j {
+                    debug_assert!(j + 1 >= start.len(), "piece {j} after a later one");
+                    while start.len() <= j {
                         close(&mut rows, &mut values, &mut start);
-                        open += 1;
                     }
                     for &(i, v) in &grouped[from..to] {
                         rows.push(i);
