@@ -10,6 +10,7 @@
 
 mod deposition;
 mod grid;
+mod normal_equations;
 mod params;
 mod plan;
 mod quality;
