@@ -13,9 +13,11 @@
 // mesh.geodesicDistance timed alone; max and mean |d − analytic| over the welded vertices.
 // Times are medians of GEODESIC_CURVED_RUNS runs (default 3; a fresh process each), fast
 // marching's the median of as many solves by one solver: single runs on a shared machine
-// vary by a third. `warm`: the same call made again in the process, once the engine has
-// compiled the hot code to optimised machine code (a first call runs partly in its baseline
-// code and compiles meanwhile: in a page, the Paths tool's first distance on a model).
+// vary by a third. Three times per method: `cold`, the first call in a fresh process (it runs
+// partly in the engine's baseline code and compiles meanwhile); `page`, the first call after
+// the warm-up the page's worker runs once a model is open (www/worker/warm-up.js: the Paths
+// tool's first distance on a model); `warm`, the same call made again in the process, once
+// the engine has compiled the hot code to optimised machine code and the memory is grown.
 // `exact` is skipped above GEODESIC_EXACT_MAX triangles (default 100 000; it takes minutes
 // there: n^1.6 growth). Fast marching: potpourri3d 1.4.0 `MeshFastMarchingDistanceSolver` on the
 // same vertices (rounded to f32 like the STL) and source (the rim as a closed curve through its
@@ -149,12 +151,14 @@ function errors(positions, distance, exact) {
   return { maxError: max, meanError: sum / distance.length };
 }
 
-/** Child process: one method on one case. */
-async function runCase(shape, target, method) {
+/** Child process: one method on one case, first after the page's warm-up when `page`. */
+async function runCase(shape, target, method, page) {
   const { initSync, Mesh } = await import(join(root, 'dist/pkg/skinpath.js'));
   initSync({ module: readFileSync(join(root, 'dist/pkg/skinpath_bg.wasm')) });
   const mesh3 = SHAPES[shape](target);
   const mesh = Mesh.fromStl(toBinaryStl(mesh3));
+  // As in the page: the model is open, then the worker warms up while the user looks at it.
+  if (page) (await import(join(root, 'dist/worker/warm-up.js'))).warmUp(Mesh);
   const positions = mesh.positions();
   let source = { boundaryOf: 'mesh' };
   if (shape === 'section') {
@@ -247,11 +251,11 @@ export async function main() {
     `\n  sphere: R ${SPHERE_R} mm (cube sphere), point source at the south pole, great-circle distance.` +
     '\n  Time: geodesicDistance alone (WebAssembly in Node); fast marching: potpourri3d 1.4.0, native, solve' +
     ' (and setup + solve); ×FMM: time / fast-marching solve time.' +
-    `\n  Times: medians of ${RUNS} runs (GEODESIC_CURVED_RUNS), each of ours in a fresh process (the first call there,` +
-    ' and warm: the same call again), fast marching\'s by one solver.');
+    `\n  Times: medians of ${RUNS} runs (GEODESIC_CURVED_RUNS), each of ours in a fresh process (cold: the first call there;` +
+    ' page: the first call after the page\'s warm-up, www/worker/warm-up.js; warm: the same call again), fast marching\'s by one solver.');
   const fmm = potpourri();
   if (fmm.why) console.log(`  fast marching column left out: ${fmm.why}.`);
-  console.log('shape    triangles  method          time ms   ×FMM  warm ms   ×FMM   max err mm  mean err mm');
+  console.log('shape    triangles  method          cold ms   ×FMM  page ms   ×FMM  warm ms   ×FMM   max err mm  mean err mm');
   for (const shape of ['cap', 'section', 'sphere']) {
     for (const size of SIZES) {
       let ref = null;
@@ -269,22 +273,28 @@ export async function main() {
           continue;
         }
         const runs = [];
-        // `exact` once: it is the reference for accuracy, not for speed.
+        const pages = [];
+        const child = (page) => JSON.parse(execFileSync(process.execPath,
+          ['--max-old-space-size=8192', here, '--case', shape, String(size), method, page ? 'page' : 'cold'],
+          { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] }));
+        // `exact` once and cold: it is the reference for accuracy, not for speed.
         for (let k = 0; k < (method === 'exact' ? 1 : RUNS); k++) {
-          const out = execFileSync(process.execPath, ['--max-old-space-size=8192', here, '--case', shape, String(size), method],
-            { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
-          runs.push(JSON.parse(out));
+          runs.push(child(false));
+          if (method !== 'exact') pages.push(child(true).ms);
         }
-        const r = { ...runs[0], ms: median(runs.map((x) => x.ms)), warm: median(runs.map((x) => x.warm ?? NaN)) };
+        const r = { ...runs[0], ms: median(runs.map((x) => x.ms)), warm: median(runs.map((x) => x.warm ?? NaN)),
+          page: pages.length ? median(pages) : NaN };
         triangles = r.triangles;
         const ratio = (ms) => (ref && ms === ms ? (ms / ref.solve).toFixed(2) : '–').padStart(5);
-        console.log(`${shape.padEnd(7)}${String(r.triangles).padStart(10)}  ${r.method.padEnd(12)}  ${r.ms.toFixed(0).padStart(9)}` +
-          `  ${ratio(r.ms)}  ${(r.warm === r.warm ? r.warm.toFixed(0) : '–').padStart(7)}  ${ratio(r.warm)}` +
+        const time = (ms, width) => (ms === ms ? ms.toFixed(0) : '–').padStart(width);
+        console.log(`${shape.padEnd(7)}${String(r.triangles).padStart(10)}  ${r.method.padEnd(12)}  ${time(r.ms, 7)}  ${ratio(r.ms)}` +
+          `  ${time(r.page, 7)}  ${ratio(r.page)}  ${time(r.warm, 7)}  ${ratio(r.warm)}` +
           `  ${r.maxError.toExponential(2).padStart(11)}  ${r.meanError.toExponential(2).padStart(11)}`);
       }
       if (ref) {
-        console.log(`${shape.padEnd(7)}${String(triangles).padStart(10)}  fast marching  ${ref.solve.toFixed(0).padStart(9)}` +
-          `  ${'1.00'.padStart(5)}  ${''.padStart(7)}  ${''.padStart(5)}  ${ref.maxError.toExponential(2).padStart(11)}  ${ref.meanError.toExponential(2).padStart(11)}` +
+        console.log(`${shape.padEnd(7)}${String(triangles).padStart(10)}  fast marching  ${ref.solve.toFixed(0).padStart(7)}` +
+          `  ${'1.00'.padStart(5)}  ${''.padStart(7)}  ${''.padStart(5)}  ${''.padStart(7)}  ${''.padStart(5)}` +
+          `  ${ref.maxError.toExponential(2).padStart(11)}  ${ref.meanError.toExponential(2).padStart(11)}` +
           `   (setup + solve ${(ref.setup + ref.solve).toFixed(0)} ms)`);
       }
     }
@@ -293,8 +303,8 @@ export async function main() {
 
 const caseArg = process.argv.indexOf('--case');
 if (process.argv[1] === here && caseArg > 0) {
-  const [shape, size, method] = process.argv.slice(caseArg + 1);
-  process.stdout.write(JSON.stringify(await runCase(shape, Number(size), method)));
+  const [shape, size, method, mode] = process.argv.slice(caseArg + 1);
+  process.stdout.write(JSON.stringify(await runCase(shape, Number(size), method, mode === 'page')));
 } else if (process.argv[1] === here) {
   await main();
 }

@@ -171,6 +171,38 @@ test('on a small surface with corners the accurate method answers with the exact
   cube.free();
 });
 
+test("the page's warm-up takes the accurate method's own way on its cap and sphere", async () => {
+  // The worker's warm-up (www/worker/warm-up.js) must make the code of a real panel's distance
+  // hot: virtual sources from a curve and from a point, with focal points; not the exact
+  // method, which the accurate one runs instead on small surfaces with corners.
+  const { capStl, warmUp } = await import(join(root, 'dist', 'worker', 'warm-up.js'));
+  const cap = Mesh.fromStl(capStl(24, 64, 1, 1000));
+  const sphere = Mesh.fromStl(capStl(32, 64, Math.PI, 100));
+  try {
+    assert.equal(cap.report().boundaryEdges, 64);
+    assert.equal(sphere.report().boundaryEdges, 0);
+    assert.equal(sphere.report().components, 1);
+    const rim = cap.geodesicDistance({ boundaryOf: 'mesh' }, { method: 'accurate' });
+    assert.equal(rim.method, 'accurate');
+    // The pole is R·θ0 from the rim, less the sag of the 64-gon rim (1.0 mm).
+    assert.ok(Math.abs(rim.vertexDistance()[0] - 999) < 1, `pole ${rim.vertexDistance()[0]}`);
+    rim.free();
+    const z = sphere.positions();
+    let south = 0;
+    for (let v = 1; 3 * v < z.length; v++) if (z[3 * v + 2] < z[3 * south + 2]) south = v;
+    const point = sphere.geodesicDistance({ vertices: [south] }, { method: 'accurate' });
+    assert.equal(point.method, 'accurate');
+    // The north pole (vertex 0, the focal point) is half a great circle away: π·R.
+    assert.ok(Math.abs(point.vertexDistance()[0] - 100 * Math.PI) < 0.5, `antipode ${point.vertexDistance()[0]}`);
+    point.free();
+    const ms = warmUp(Mesh);
+    assert.ok(ms > 0 && Number.isFinite(ms));
+  } finally {
+    cap.free();
+    sphere.free();
+  }
+});
+
 test('the voxel method finds the same circles within two voxels', () => {
   const L = 1;
   const field = mesh.geodesicDistance(ringSource, { method: 'voxel', voxelSize: L });

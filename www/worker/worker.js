@@ -9,6 +9,8 @@
 //                  { id, type: 'done', result }                        either this
 //                  { id, type: 'error', message, broken }              or this
 // Requests run one at a time, in order. Typed arrays in results are transferred, not copied.
+// Once a model is open and no request has come for a second, the worker warms the geodesic
+// code up (warm-up.js), once: the Paths tool's first distance then runs optimised code.
 // `broken` means the wasm instance may be corrupt: the page then replaces this worker. Cancel
 // also replaces the worker (a running wasm call cannot be interrupted otherwise).
 //
@@ -26,6 +28,7 @@ import * as sprayTool from './spray.js';
 import * as drillTool from './drill.js';
 import * as pathsTool from './paths.js';
 import { patchColorBytes } from '../viewer/palette.js';
+import { warmUp } from './warm-up.js';
 
 const TOOLS = { segment: segmentTool, spray: sprayTool, drill: drillTool, paths: pathsTool };
 
@@ -237,10 +240,35 @@ function handlerOf(op) {
 
 const DOING = { open: 'reading the file', pick: 'picking', display: 'preparing the display' };
 
+/** Idle time after a request before the warm-up runs (a request meanwhile puts it off). */
+const WARM_UP_IDLE_MS = 1000;
+let warmUpTimer = null;
+let warmedUp = false;
+
+/**
+ * Once a model is open, warms the geodesic code up (see warm-up.js) when no request has come
+ * for WARM_UP_IDLE_MS, so that it never delays one the page is waiting for; once per worker.
+ */
+function warmUpWhenIdle() {
+  clearTimeout(warmUpTimer);
+  if (warmedUp || !ctx.mesh) return;
+  warmUpTimer = setTimeout(() => {
+    warmedUp = true;
+    try {
+      warmUp(Mesh);
+    } catch (error) {
+      // A failure here is a bug, not the user's: say so in the console, and the next request
+      // reports it as usual if the engine is broken.
+      console.warn(`skinpath: the engine's warm-up failed: ${error?.message ?? error}`);
+    }
+  }, WARM_UP_IDLE_MS);
+}
+
 try {
   await init();
   self.addEventListener('message', (event) => {
     const msg = event.data;
+    clearTimeout(warmUpTimer);
     try {
       const handler = handlerOf(msg.op);
       if (!handler) throw new Error(`Unknown engine request "${msg.op}".`);
@@ -252,6 +280,7 @@ try {
       const d = describe(error, doing);
       postMessage({ id: msg.id, type: 'error', message: d.message, broken: d.broken });
     }
+    warmUpWhenIdle();
   });
   postMessage({ type: 'ready' });
 } catch (error) {

@@ -1,0 +1,86 @@
+// Warm-up of the engine's geodesic code, run by the worker once a model is open and it is idle.
+//
+// Why: a WebAssembly engine (V8 in Chrome, Edge and Node) first runs each function's quickly
+// compiled baseline code and swaps in optimised code only once it has run hot, and never
+// within a call already running: a function called once (the whole of a distance's set-up, its
+// focal refinement) runs baseline code to its end. So the Paths tool's first distance on a
+// model took about 1.4 times as long as the same distance again (500k-triangle curved
+// panel: 0.23 s against 0.16 s). Three distances on a small generated cap and sphere, which
+// take the same code paths as a real panel's (a boundary, a plane section, a point source,
+// with focal points), make that code hot while the user is still looking at the model;
+// `npm run bench -- geodesic` times a first call after it as the page's.
+//
+// Cost: a few tens of milliseconds of the worker's idle time and about a megabyte of memory,
+// freed at once. It runs once per worker (Cancel replaces the worker, whose next model warms
+// it again).
+
+/**
+ * Binary STL of a latitude-longitude cap of the unit sphere scaled by `radius`: a pole vertex
+ * at the top and `rings` rings of `sectors` vertices down to polar angle `theta0`; with
+ * `theta0 = π` the last ring is replaced by the other pole (a closed sphere).
+ */
+export function capStl(rings, sectors, theta0, radius) {
+  const closed = theta0 >= Math.PI;
+  const ringCount = closed ? rings - 1 : rings;
+  const vertices = [[0, 0, radius]];
+  for (let i = 1; i <= ringCount; i++) {
+    const th = (theta0 * i) / rings;
+    for (let k = 0; k < sectors; k++) {
+      const ph = (2 * Math.PI * (k + 0.5 * (i % 2))) / sectors;
+      vertices.push([radius * Math.sin(th) * Math.cos(ph), radius * Math.sin(th) * Math.sin(ph), radius * Math.cos(th)]);
+    }
+  }
+  if (closed) vertices.push([0, 0, -radius]);
+  const at = (i, k) => 1 + (i - 1) * sectors + (k % sectors);
+  const triangles = [];
+  for (let k = 0; k < sectors; k++) triangles.push([0, at(1, k), at(1, k + 1)]);
+  for (let i = 1; i < ringCount; i++) {
+    // Odd rings are turned by half a sector: each quad splits along its shorter diagonal.
+    const s = i % 2;
+    for (let k = 0; k < sectors; k++) {
+      triangles.push([at(i, k), at(i + 1, k + 1 - s), at(i, k + 1)]);
+      triangles.push([at(i, k + s), at(i + 1, k), at(i + 1, k + 1)]);
+    }
+  }
+  if (closed) {
+    const south = vertices.length - 1;
+    for (let k = 0; k < sectors; k++) triangles.push([south, at(ringCount, k + 1), at(ringCount, k)]);
+  }
+  const bytes = new Uint8Array(84 + 50 * triangles.length);
+  const view = new DataView(bytes.buffer);
+  view.setUint32(80, triangles.length, true);
+  let o = 84;
+  for (const t of triangles) {
+    o += 12;
+    for (const v of t) for (const c of vertices[v]) { view.setFloat32(o, c, true); o += 4; }
+    o += 2;
+  }
+  return bytes;
+}
+
+/**
+ * Runs the accurate geodesic method on a small cap (from its rim and from a plane section) and
+ * a small sphere (from its south pole, with the focal point at the north pole). Returns the
+ * milliseconds it took. Errors are the caller's to report: the distances are known to work on
+ * these shapes, so one here is a bug.
+ */
+export function warmUp(Mesh) {
+  const start = performance.now();
+  const cap = Mesh.fromStl(capStl(24, 64, 1, 1000));
+  try {
+    cap.geodesicDistance({ boundaryOf: 'mesh' }, { method: 'accurate' }).free();
+    cap.geodesicDistance({ plane: { point: [0, 0, 1000 * Math.cos(0.5)], normal: [0, 0, 1] } }, { method: 'accurate' }).free();
+  } finally {
+    cap.free();
+  }
+  const sphere = Mesh.fromStl(capStl(32, 64, Math.PI, 100));
+  try {
+    const z = sphere.positions();
+    let south = 0;
+    for (let v = 1; 3 * v < z.length; v++) if (z[3 * v + 2] < z[3 * south + 2]) south = v;
+    sphere.geodesicDistance({ vertices: [south] }, { method: 'accurate' }).free();
+  } finally {
+    sphere.free();
+  }
+  return performance.now() - start;
+}
