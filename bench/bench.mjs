@@ -455,7 +455,8 @@ async function runOne(shape, target) {
 
 /**
  * Medians over `runs` runs of the time between the stage changes the core reports through
- * onProgress (`BENCH_STAGES=1 npm run bench`): copy-in, parse (read + weld), adjacency, orient,
+ * onProgress (`BENCH_STAGES=1 npm run bench`): copy-in (of the file's head: a binary file is
+ * streamed into the engine as it is parsed), parse (read + weld), adjacency, orient,
  * geometry; regions, seeds (seed order: from the first `planarise` report at 0 to the next
  * one), planarise, patches. The first report of a stage ends the one before.
  */
@@ -486,7 +487,8 @@ async function stageTimes(Mesh, bytes, params, runs) {
       (all[name] ??= []).push(marks[i + 1][1] - marks[i][1]);
     }
   }
-  // `start` is the copy of the bytes into WebAssembly memory, before the first report.
+  // `start` is the copy of the bytes into WebAssembly memory before the first report: the
+  // file's head, or the whole of a file read as text.
   return Object.fromEntries(Object.entries(all).map(([k, v]) => [k === 'start' ? 'copy-in' : k, median(v)]));
 }
 

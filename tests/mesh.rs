@@ -6,7 +6,10 @@ mod common;
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use common::{binary_stl, check_adjacency, import, Tri};
-use skinpath::mesh::{import_stl, read_stl, write_stl, FaceGeometry, StlError, StlFormat};
+use skinpath::mesh::{
+    binary_layout, import_stl, read_stl, write_stl, BinaryStl, FaceGeometry, StlError, StlFormat,
+    STL_HEAD_BYTES, STL_PREAMBLE_BYTES, STL_RECORD_BYTES,
+};
 
 fn error(bytes: &[u8]) -> String {
     match import_stl(bytes, &mut |_, _| {}) {
@@ -401,6 +404,97 @@ fn binary_files_whose_header_reads_like_text_stay_binary() {
     let m = import(&bytes);
     assert_eq!(m.report.format, StlFormat::Binary);
     assert_eq!((m.report.triangles, m.report.trailing_bytes), (8, 20));
+}
+
+#[test]
+fn a_binary_file_is_told_from_its_head_and_read_in_pieces_as_a_whole() {
+    // The WebAssembly build streams a binary file from JavaScript through a small buffer
+    // when its first STL_HEAD_BYTES say it is binary: that must be exactly when `read_stl`
+    // reads it as binary, and the pieces must give the same mesh.
+    let mut headed = binary_stl(&common::plane(1.0, 1.0, 2));
+    headed[..11].copy_from_slice(b"solid x y z");
+    headed.extend_from_slice(b"\nsome trailing text\n");
+    let big = binary_stl(&common::plane(2.0, 1.0, 60));
+    let files: [(&str, &[u8]); 29] = [
+        ("all_nan", fixture!("all_nan.stl")),
+        ("ascii_truncated", fixture!("ascii_truncated.stl")),
+        ("bad_number", fixture!("bad_number.stl")),
+        (
+            "solid header",
+            fixture!("binary_header_starts_with_solid.stl"),
+        ),
+        ("count_too_large", fixture!("count_too_large.stl")),
+        ("cube_ascii", fixture!("cube_ascii.stl")),
+        ("cube_binary", fixture!("cube_binary.stl")),
+        ("cube_crlf", fixture!("cube_crlf_uppercase.stl")),
+        ("degenerate", fixture!("degenerate_triangle.stl")),
+        ("empty", fixture!("empty.stl")),
+        ("flipped", fixture!("flipped_faces.stl")),
+        ("four_vertices", fixture!("four_vertices.stl")),
+        ("inf_ascii", fixture!("inf_vertex_ascii.stl")),
+        ("inside_out", fixture!("inside_out_cube.stl")),
+        ("nan_vertex", fixture!("nan_vertex.stl")),
+        ("no_endsolid", fixture!("no_endsolid.stl")),
+        ("no_triangles", fixture!("no_triangles.stl")),
+        ("nonmanifold", fixture!("nonmanifold_edge.stl")),
+        ("not_stl", fixture!("not_stl.txt")),
+        ("open_strip", fixture!("open_strip.stl")),
+        ("png_header", fixture!("png_header.stl")),
+        ("single", fixture!("single_triangle.stl")),
+        ("trailing", fixture!("trailing_bytes.stl")),
+        ("truncated", fixture!("truncated.stl")),
+        ("two_components", fixture!("two_components.stl")),
+        ("headed plane", &headed),
+        ("plane of 7200", &big),
+        ("short", &big[..83]),
+        ("cut plane", &big[..big.len() - 7]),
+    ];
+    let mut streamed = 0;
+    for (name, bytes) in files {
+        let layout = binary_layout(&bytes[..bytes.len().min(STL_HEAD_BYTES)], bytes.len());
+        let whole = read_stl(bytes);
+        let Some(count) = layout else {
+            // Not told from the head: the caller reads the whole file, as `read_stl` does. A
+            // binary file is missed only when its first kilobyte looks like text.
+            if let Ok(w) = &whole {
+                assert!(
+                    w.info.format == StlFormat::Ascii,
+                    "{name}: binary, not told from its head"
+                );
+            }
+            continue;
+        };
+        let end = STL_PREAMBLE_BYTES + count * STL_RECORD_BYTES;
+        for piece in [1, 7, 1000] {
+            let mut reader = BinaryStl::new(count);
+            let mut stages = Vec::new();
+            for records in bytes[STL_PREAMBLE_BYTES..end].chunks(piece * STL_RECORD_BYTES) {
+                reader.feed(records, &mut |stage, f| stages.push((stage.to_string(), f)));
+            }
+            let read = reader.finish(bytes.len() - end, &mut |stage, f| {
+                stages.push((stage.to_string(), f))
+            });
+            assert_eq!(stages.first(), Some(&("parse".to_string(), 0.0)), "{name}");
+            assert_eq!(stages.last(), Some(&("parse".to_string(), 1.0)), "{name}");
+            match (&read, &whole) {
+                (Ok(read), Ok(whole)) => {
+                    assert_eq!(whole.info.format, StlFormat::Binary, "{name}");
+                    assert_eq!(whole.info.triangles_in_file, count, "{name}");
+                    assert_eq!(read.info, whole.info, "{name}, {piece} a piece");
+                    assert_eq!(read.mesh.positions(), whole.mesh.positions(), "{name}");
+                    assert_eq!(read.mesh.triangles(), whole.mesh.triangles(), "{name}");
+                }
+                // A binary file refused for what it holds (NaN or no triangles) is refused
+                // alike; one refused for its layout is never told binary.
+                (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "{name}"),
+                _ => panic!("{name}: streamed {read:?}, whole {whole:?}"),
+            }
+        }
+        streamed += 1;
+    }
+    // The eleven binary fixtures (the cube, the solid header, trailing bytes, the flipped,
+    // open, non-manifold and NaN ones...) and the two whole generated files.
+    assert_eq!(streamed, 13);
 }
 
 #[test]

@@ -13,7 +13,8 @@
 //! read as tokens, so LF, CRLF and CR line ends and files on one line all read alike, and
 //! names may hold any bytes (UTF-8, non-breaking spaces).
 //! Cost: one pass over the bytes; nothing is allocated from the header's count before the
-//! file size confirms it.
+//! file size confirms it. A binary file told from its head ([`binary_layout`]) can be read in
+//! pieces as they come ([`BinaryStl`]), so a caller need not hold the whole file.
 //!
 //! Reading is our own because the error messages must name the line of a malformed ASCII
 //! number and the counts of a truncated binary file, which `stl_io`'s readers do not report;
@@ -178,12 +179,12 @@ pub fn read_stl_with_progress(
             Err(StlError::TooShort { len: bytes.len() })
         };
     }
+    if let Some(count) = binary_layout(bytes, bytes.len()) {
+        return read_binary(bytes, count, progress);
+    }
     let declared = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
     let needed = BINARY_PREAMBLE as u64 + BINARY_TRIANGLE_BYTES as u64 * declared;
     let len = bytes.len() as u64;
-    if needed == len {
-        return read_binary(bytes, declared as usize, progress);
-    }
     if starts_with_solid && looks_like_text(text) {
         return read_ascii(text, progress);
     }
@@ -212,6 +213,29 @@ pub fn read_stl_with_progress(
             needed,
         })
     }
+}
+
+/// Bytes of a file's head that decide whether it is binary STL (see [`binary_layout`]).
+pub const STL_HEAD_BYTES: usize = 4096;
+
+/// The triangle count of a binary STL file of `len` bytes that begins with `head` (its first
+/// `min(len, STL_HEAD_BYTES)` bytes or more), when [`read_stl`] reads the file as binary
+/// and this much of it shows so: its header's count fills the file exactly, or leaves
+/// trailing bytes and the file does not begin as text. `None` otherwise (an ASCII file, a
+/// broken one, or binary with trailing bytes after a text-like start, which only the whole
+/// file decides). So that a caller holding the file elsewhere can stream its triangles
+/// through a [`BinaryStl`] instead of copying it whole first.
+pub fn binary_layout(head: &[u8], len: usize) -> Option<usize> {
+    if len < BINARY_PREAMBLE || head.len() < len.min(STL_HEAD_BYTES) {
+        return None;
+    }
+    let declared = u32::from_le_bytes([head[80], head[81], head[82], head[83]]) as u64;
+    let needed = BINARY_PREAMBLE as u64 + BINARY_TRIANGLE_BYTES as u64 * declared;
+    let text = head.strip_prefix(UTF8_BOM).unwrap_or(head);
+    // `read_stl` takes a file whose count leaves bytes over for ASCII when it begins with
+    // `solid` and looks like text: only a start that is not text is sure to be binary here.
+    (needed == len as u64 || (needed < len as u64 && !looks_like_text(text)))
+        .then_some(declared as usize)
 }
 
 /// Whether the first (up to 256) 50-byte records after a binary header hold finite,
@@ -271,43 +295,86 @@ fn read_binary(
     progress: &mut dyn FnMut(&str, f64),
 ) -> Result<StlImport, StlError> {
     let data_end = BINARY_PREAMBLE + count * BINARY_TRIANGLE_BYTES;
-    let mut welder = Welder::with_capacity(count);
-    let mut skipped = 0;
-    for (i, chunk) in bytes[BINARY_PREAMBLE..data_end]
-        .chunks_exact(BINARY_TRIANGLE_BYTES)
-        .enumerate()
-    {
-        if i % PROGRESS_EVERY == 0 {
-            progress("parse", i as f64 / count as f64);
-        }
-        let Ok(record) = <&[u8; BINARY_TRIANGLE_BYTES]>::try_from(chunk) else {
-            continue; // chunks_exact yields whole records only
-        };
-        // Bytes 0..12 hold the file's normal, which is ignored. The corners are read as bit
-        // patterns: a coordinate is finite unless its exponent bits are all ones.
-        let bits: [[u32; 3]; 3] = std::array::from_fn(|c| {
-            std::array::from_fn(|k| {
-                let at = 12 + 12 * c + 4 * k;
-                u32::from_le_bytes([record[at], record[at + 1], record[at + 2], record[at + 3]])
-            })
-        });
-        const EXPONENT: u32 = 0x7f80_0000;
-        if bits.iter().flatten().all(|&b| b & EXPONENT != EXPONENT) {
-            welder.add_triangle_bits(&bits);
-        } else {
-            skipped += 1;
+    let mut reader = BinaryStl::new(count);
+    reader.feed(&bytes[BINARY_PREAMBLE..data_end], progress);
+    reader.finish(bytes.len() - data_end, progress)
+}
+
+/// The triangles of a binary STL file read record by record, in pieces as they come (the
+/// WebAssembly build streams a file from JavaScript's memory through a small buffer, so that
+/// the file is never copied whole into the engine's memory).
+#[derive(Debug)]
+pub struct BinaryStl {
+    welder: Welder,
+    count: usize,
+    read: usize,
+    skipped: usize,
+}
+
+/// Bytes of a binary STL record: a normal and three corners as `f32` LE, a `u16` attribute.
+pub const STL_RECORD_BYTES: usize = BINARY_TRIANGLE_BYTES;
+
+/// Bytes before a binary STL file's first record: the header and the triangle count.
+pub const STL_PREAMBLE_BYTES: usize = BINARY_PREAMBLE;
+
+impl BinaryStl {
+    /// A reader of the `count` records (as the header gives it) of a binary file.
+    pub fn new(count: usize) -> Self {
+        BinaryStl {
+            welder: Welder::with_capacity(count),
+            count,
+            read: 0,
+            skipped: 0,
         }
     }
-    progress("parse", 1.0);
-    finish(
-        welder,
-        StlInfo {
-            format: StlFormat::Binary,
-            triangles_in_file: count,
-            skipped_triangles: skipped,
-            trailing_bytes: bytes.len() - data_end,
-        },
-    )
+
+    /// Reads the next whole records (`records.len()` a multiple of [`STL_RECORD_BYTES`]; a
+    /// partial record at the end is ignored), reporting `("parse", fraction)` now and then.
+    pub fn feed(&mut self, records: &[u8], progress: &mut dyn FnMut(&str, f64)) {
+        for chunk in records.chunks_exact(BINARY_TRIANGLE_BYTES) {
+            if self.read % PROGRESS_EVERY == 0 {
+                progress("parse", self.read as f64 / self.count as f64);
+            }
+            self.read += 1;
+            let Ok(record) = <&[u8; BINARY_TRIANGLE_BYTES]>::try_from(chunk) else {
+                continue; // chunks_exact yields whole records only
+            };
+            // Bytes 0..12 hold the file's normal, which is ignored. The corners are read as
+            // bit patterns: a coordinate is finite unless its exponent bits are all ones.
+            let bits: [[u32; 3]; 3] = std::array::from_fn(|c| {
+                std::array::from_fn(|k| {
+                    let at = 12 + 12 * c + 4 * k;
+                    u32::from_le_bytes([record[at], record[at + 1], record[at + 2], record[at + 3]])
+                })
+            });
+            const EXPONENT: u32 = 0x7f80_0000;
+            if bits.iter().flatten().all(|&b| b & EXPONENT != EXPONENT) {
+                self.welder.add_triangle_bits(&bits);
+            } else {
+                self.skipped += 1;
+            }
+        }
+    }
+
+    /// The welded mesh of the records fed, which must be the `count` given to [`Self::new`];
+    /// `trailing_bytes` follow them in the file.
+    pub fn finish(
+        self,
+        trailing_bytes: usize,
+        progress: &mut dyn FnMut(&str, f64),
+    ) -> Result<StlImport, StlError> {
+        debug_assert_eq!(self.read, self.count, "every record is fed");
+        progress("parse", 1.0);
+        finish(
+            self.welder,
+            StlInfo {
+                format: StlFormat::Binary,
+                triangles_in_file: self.count,
+                skipped_triangles: self.skipped,
+                trailing_bytes,
+            },
+        )
+    }
 }
 
 /// A whitespace-separated word of an ASCII file.

@@ -1,12 +1,50 @@
 //! `Mesh`: an imported STL held on the Rust side (JavaScript must call `free()`).
 
 use super::index::{hit_to_js, index_of, read_ray, SharedIndex};
-use super::params::{read_bytes, read_callback, read_index_list};
+use super::params::{byte_array, copy_all, copy_bytes, read_callback, read_index_list};
 use super::{progress_fn, DistanceField, Segmentation, SprayPlan};
 use crate::math::Real;
-use crate::mesh::{prepare_mesh, read_stl_with_progress, ImportedMesh};
+use crate::mesh::{
+    binary_layout, prepare_mesh, read_stl_with_progress, BinaryStl, ImportedMesh, StlImport,
+    STL_HEAD_BYTES, STL_PREAMBLE_BYTES, STL_RECORD_BYTES,
+};
+use js_sys::Uint8Array;
 use std::rc::Rc;
 use wasm_bindgen::prelude::*;
+
+/// Binary STL records copied from JavaScript at a time (800 KiB: the copies stay in cache).
+const STREAM_RECORDS: usize = 1 << 14;
+
+/// Reads STL bytes held by JavaScript. A binary file is streamed through a small buffer,
+/// record by record, never copied whole into the engine's memory: that memory only grows,
+/// so a copy of the file raised every later peak by the file's size, and copying it meant
+/// writing it twice (zeroed, then filled). Any other file (ASCII, or one only the whole of
+/// it tells apart) is copied whole and read as before.
+fn read_stl_from_js(
+    array: &Uint8Array,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<StlImport, JsError> {
+    let len = array.length() as usize;
+    let mut head = vec![0; len.min(STL_HEAD_BYTES)];
+    copy_bytes(array, 0, &mut head);
+    let Some(count) = binary_layout(&head, len) else {
+        let bytes = copy_all(array)?;
+        return Ok(read_stl_with_progress(&bytes, progress)?);
+    };
+    let data_end = STL_PREAMBLE_BYTES + count * STL_RECORD_BYTES;
+    let mut reader = BinaryStl::new(count);
+    let mut buffer = vec![0; STREAM_RECORDS * STL_RECORD_BYTES];
+    let mut at = STL_PREAMBLE_BYTES;
+    // Each pass reads at least one record (`data_end − at` is a positive multiple of a
+    // record), so the loop ends.
+    while at < data_end {
+        let n = (data_end - at).min(buffer.len());
+        copy_bytes(array, at as u32, &mut buffer[..n]);
+        reader.feed(&buffer[..n], progress);
+        at += n;
+    }
+    Ok(reader.finish(len - data_end, progress)?)
+}
 
 /// A welded, consistently wound triangle mesh read from STL.
 #[wasm_bindgen]
@@ -27,13 +65,13 @@ impl Mesh {
         #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
         on_progress: Option<JsValue>,
     ) -> Result<Mesh, JsError> {
-        let bytes = read_bytes(&bytes, "the STL file")?;
+        let array = byte_array(&bytes, "the STL file")?;
         let on_progress = read_callback(on_progress, "onProgress")?;
         let mut progress = progress_fn(on_progress);
-        let import = read_stl_with_progress(&bytes, &mut progress)?;
-        // The copy of the file is not needed past parsing: freeing it here lowers the peak
-        // memory of the import by the file's size.
-        drop(bytes);
+        let import = match array {
+            Some(array) => read_stl_from_js(&array, &mut progress)?,
+            None => read_stl_with_progress(&[], &mut progress)?,
+        };
         let imported = prepare_mesh(import, &mut progress)?;
         Ok(Mesh {
             inner: Rc::new(imported),

@@ -476,9 +476,10 @@ pub(crate) fn read_vector3(value: &JsValue, name: &str) -> Result<[f64; 3], ArgE
 /// `isize::MAX` (2^31 − 1) bytes; copying more traps, so it is refused before any copy.
 pub(crate) const MAX_BYTES: u32 = i32::MAX as u32;
 
-/// Copies a `Uint8Array` or `ArrayBuffer` into wasm memory after checking its length, so an
-/// oversize file gets a message rather than a trap in the allocator. `what` names the input.
-pub(crate) fn read_bytes(value: &JsValue, what: &str) -> Result<Vec<u8>, ArgError> {
+/// A `Uint8Array` or `ArrayBuffer` as a byte view of checked length (`None` when empty or
+/// detached), so that an oversize file gets a message rather than a trap in the allocator.
+/// `what` names the input.
+pub(crate) fn byte_array(value: &JsValue, what: &str) -> Result<Option<Uint8Array>, ArgError> {
     if !(value.is_instance_of::<Uint8Array>() || value.is_instance_of::<js_sys::ArrayBuffer>()) {
         return Err(ArgError(format!(
             "{what} must be a Uint8Array or an ArrayBuffer, got {}",
@@ -498,13 +499,13 @@ pub(crate) fn read_bytes(value: &JsValue, what: &str) -> Result<Vec<u8>, ArgErro
     }
     if byte_length == 0.0 {
         // Also a detached buffer, which `new Uint8Array(buffer)` would throw on.
-        return Ok(Vec::new());
+        return Ok(None);
     }
     let array = match value.dyn_ref::<js_sys::ArrayBuffer>() {
         Some(buffer) => Uint8Array::new(buffer),
         None => value.clone().unchecked_into(),
     };
-    // `copy_to` sizes its copy by `length()`, so the buffer must match it exactly.
+    // `copy_to` sizes its copy by `length()`, so the views copied must match it exactly.
     let len = array.length();
     if f64::from(len) != byte_length {
         return Err(ArgError(format!(
@@ -512,6 +513,18 @@ pub(crate) fn read_bytes(value: &JsValue, what: &str) -> Result<Vec<u8>, ArgErro
             Compact(byte_length)
         )));
     }
+    Ok(Some(array))
+}
+
+/// Bytes `start..start + into.len()` of `array` (within its length) copied into `into`.
+pub(crate) fn copy_bytes(array: &Uint8Array, start: u32, into: &mut [u8]) {
+    let end = start + into.len() as u32;
+    array.subarray(start, end).copy_to(into);
+}
+
+/// The whole of `array` copied into wasm memory, or a message when memory runs short.
+pub(crate) fn copy_all(array: &Uint8Array) -> Result<Vec<u8>, ArgError> {
+    let len = array.length();
     let mut bytes = Vec::new();
     if bytes.try_reserve_exact(len as usize).is_err() {
         return Err(ArgError(format!(

@@ -79,6 +79,43 @@ function stlOf(triangles) {
   return new Uint8Array(view.buffer);
 }
 
+test('fromStl streams a binary file from a view at any offset as from its own buffer', () => {
+  // 200 × 100 squares of two triangles: 40,000 records, more than one piece of the buffer the
+  // engine copies a binary file through (16,384 records).
+  const [n, m] = [200, 100];
+  const tris = [];
+  for (let j = 0; j < m; j++) {
+    for (let i = 0; i < n; i++) {
+      const [a, b, c, d] = [[i, j, 0], [i + 1, j, 0], [i + 1, j + 1, 0], [i, j + 1, 0]];
+      tris.push(...a, ...b, ...c, ...a, ...c, ...d);
+    }
+  }
+  const bytes = stlOf(tris);
+  // The file inside a larger buffer of NaN patterns, seven bytes in, with five of them after.
+  const padded = new Uint8Array(bytes.length + 20).fill(0xff);
+  padded.set(bytes, 7);
+  const own = Mesh.fromStl(bytes);
+  const stages = [];
+  const inside = Mesh.fromStl(padded.subarray(7, 7 + bytes.length + 5), (stage, f) => stages.push([stage, f]));
+  try {
+    assert.equal(own.triangleCount, 40000);
+    assert.equal(own.vertexCount, (n + 1) * (m + 1));
+    assert.deepEqual(inside.positions(), own.positions());
+    assert.deepEqual(inside.indices(), own.indices());
+    const report = inside.report();
+    assert.equal(report.skippedTriangles, 0, 'no record read from the padding');
+    assert.equal(report.trailingBytes, 5);
+    assert.deepEqual(report.bboxMax, [n, m, 0]);
+    const parse = stages.filter(([stage]) => stage === 'parse').map(([, f]) => f);
+    assert.equal(parse[0], 0);
+    assert.equal(parse.at(-1), 1);
+    assert.ok(parse.every((f, k) => k === 0 || f >= parse[k - 1]), 'parse progress only grows');
+  } finally {
+    own.free();
+    inside.free();
+  }
+});
+
 test('raycast: the first face along a ray, passing through hidden patches', () => {
   // Two 10 × 10 squares, at z = 0 and z = 2 (two triangles each, not connected).
   const square = (z) => [0, 0, z, 10, 0, z, 10, 10, z, 0, 0, z, 10, 10, z, 0, 10, z];
