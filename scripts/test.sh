@@ -23,7 +23,7 @@ cargo clippy --all-targets -- -D warnings
 cargo clippy --all-targets --features wasm -- -D warnings
 
 step "docs"
-RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --document-private-items --quiet
 
 step "native tests"
 cargo test

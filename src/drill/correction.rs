@@ -4,7 +4,7 @@
 //! Source: Bi et al. 2015 (seed 004) §3.2 (reference errors `ΔP_i = actual − nominal`) and
 //!         §3.3.5 (`ΔQ(u, w) = S_actual(u, w) − S_nominal(u, w)`, hole parameters `(u*, w*)`,
 //!         corrected = nominal + `ΔQ(u*, w*)`); the bilinear baseline interpolates the four
-//!         `ΔP_i` (Zhu & Qu 2013, the paper's reference [2]).
+//!         `ΔP_i` (Zhu & Qu 2013, the paper's reference \[2\]).
 //! Input:  four [`ReferenceHole`]s A, B, C, D (in order; A→B across the flight direction),
 //!         the nominal holes, and optionally the panel as a [`MeshIndex`].
 //! Output: [`Correction`]: corrected positions, unit surface normals (pointing out of the

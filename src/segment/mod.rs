@@ -1,7 +1,7 @@
 //! Surface segmentation into machinable patches (seed 000: Wang, Zhao, Tao 2019).
 //!
 //! [`segment`] runs the three steps: region growing with a process-derived threshold
-//! ([`grow_regions`]), approximate planarisation of each region ([`planarise`]), and removal
+//! ([`grow_regions`]), approximate planarisation of each region ([`planarise()`]), and removal
 //! of patches below a share of the total area (in [`segment`] itself).
 
 mod params;
