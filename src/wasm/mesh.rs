@@ -38,6 +38,14 @@ fn read_stl_from_js(
     // Each pass reads at least one record (`data_end − at` is a positive multiple of a
     // record), so the loop ends.
     while at < data_end {
+        // The progress callback runs between the copies and could detach or shrink the
+        // file's buffer (its view then reports fewer bytes): refused, never read past.
+        if array.length() as usize != len {
+            return Err(JsError::new(
+                "the STL file's bytes changed while they were read: its buffer was detached or \
+                 resized (by the progress callback?)",
+            ));
+        }
         let n = (data_end - at).min(buffer.len());
         copy_bytes(array, at as u32, &mut buffer[..n]);
         reader.feed(&buffer[..n], progress);

@@ -211,6 +211,23 @@ test('fromStl takes a Uint8Array or an ArrayBuffer and refuses other types and 2
   stillWorks();
 });
 
+test('a progress callback that detaches the file while it is read gets an Error, not a trap', () => {
+  // 40,000 triangles: the engine copies a binary file in pieces of 16,384 records and calls
+  // onProgress between them, so the buffer can go while it is read.
+  const count = 40000;
+  const bytes = new Uint8Array(84 + 50 * count);
+  const view = new DataView(bytes.buffer);
+  view.setUint32(80, count, true);
+  for (let t = 0; t < count; t++) {
+    const [x, y] = [t % 200, Math.floor(t / 200)];
+    const corners = [x, y, 0, x + 1, y, 0, x, y + 1, 0];
+    corners.forEach((c, k) => view.setFloat32(84 + 50 * t + 12 + 4 * k, c, true));
+  }
+  const detach = () => structuredClone(bytes.buffer, { transfer: [bytes.buffer] });
+  refuses(() => Mesh.fromStl(bytes, detach), /^the STL file's bytes changed while they were read: its buffer was detached or resized/);
+  stillWorks();
+});
+
 test('use after free() says which object was freed, for every class and member', () => {
   const mesh = Mesh.fromStl(cube);
   const seg = mesh.segment(paper);
