@@ -37,13 +37,18 @@
 //!         and 1.0 / 0.05); sphere R 100 from a point, 500k 0.0078 / 0.0006, 2M 0.0043 /
 //!         0.00013 (fast marching 3.0 / 1.3 and 2.9 / 1.2); the cap from its section by
 //!         the plane at θ = 0.6 (the accuracy example, native), 0.043 / 0.0028 and 0.0051 /
-//!         0.0008; by the plane through its ring of vertices nearest to θ = 0.6, 0.014 /
-//!         0.0015 at 500k. Time on a shared machine (one run), ratio to fast marching's solve: cap
-//!         500k 0.85×, 2M 0.66×; sphere 500k 0.95×, 2M 0.82× (about 1.1 of the time
-//!         without front interpolation at 500k, alternating the builds; fast marching itself
-//!         moves by 10–15 % between runs). The bench times a first call in a fresh process:
-//!         at 500k its fixed costs (the engine's baseline code in loops run once, memory
-//!         growth) weigh most.
+//!         0.0008; by the plane through its ring of vertices nearest to θ = 0.6, 0.011 /
+//!         0.0015 at 500k. Known gap: the same plane at 200k and 1M triangles, 0.34 and 0.16
+//!         mm one ring from the section on its convex side, where a piece of the section
+//!         shorter than the spacing of the vertices is the nearest to a vertex of the next
+//!         ring but held by none of its neighbours (each holds its own nearest piece), so it
+//!         gets the end of the next piece. Time on a shared machine (one run), ratio to fast
+//!         marching's solve: cap 500k 0.85×, 2M 0.66×; sphere 500k 0.95×, 2M 0.82× (about
+//!         1.1 of the time without front interpolation at 500k, alternating the builds; fast
+//!         marching itself moves by 10–15 % between runs). The bench times a first call in a
+//!         fresh process: at 500k its fixed costs (the engine's baseline code in loops run
+//!         once, memory growth) weigh most; the page warms the code up first (see
+//!         `www/worker/warm-up.js`).
 //! Cost:   O(V log V) time; memory O(V + F) (a source segment, its face and `σ` per vertex,
 //!         a normal per face, the heap, the focal patches: at most a quarter of the faces
 //!         again; front interpolation reuses the heap's memory), its worst case refused up
