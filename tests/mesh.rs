@@ -415,40 +415,13 @@ fn a_binary_file_is_told_from_its_head_and_read_in_pieces_as_a_whole() {
     headed[..11].copy_from_slice(b"solid x y z");
     headed.extend_from_slice(b"\nsome trailing text\n");
     let big = binary_stl(&common::plane(2.0, 1.0, 60));
-    let files: [(&str, &[u8]); 29] = [
-        ("all_nan", fixture!("all_nan.stl")),
-        ("ascii_truncated", fixture!("ascii_truncated.stl")),
-        ("bad_number", fixture!("bad_number.stl")),
-        (
-            "solid header",
-            fixture!("binary_header_starts_with_solid.stl"),
-        ),
-        ("count_too_large", fixture!("count_too_large.stl")),
-        ("cube_ascii", fixture!("cube_ascii.stl")),
-        ("cube_binary", fixture!("cube_binary.stl")),
-        ("cube_crlf", fixture!("cube_crlf_uppercase.stl")),
-        ("degenerate", fixture!("degenerate_triangle.stl")),
-        ("empty", fixture!("empty.stl")),
-        ("flipped", fixture!("flipped_faces.stl")),
-        ("four_vertices", fixture!("four_vertices.stl")),
-        ("inf_ascii", fixture!("inf_vertex_ascii.stl")),
-        ("inside_out", fixture!("inside_out_cube.stl")),
-        ("nan_vertex", fixture!("nan_vertex.stl")),
-        ("no_endsolid", fixture!("no_endsolid.stl")),
-        ("no_triangles", fixture!("no_triangles.stl")),
-        ("nonmanifold", fixture!("nonmanifold_edge.stl")),
-        ("not_stl", fixture!("not_stl.txt")),
-        ("open_strip", fixture!("open_strip.stl")),
-        ("png_header", fixture!("png_header.stl")),
-        ("single", fixture!("single_triangle.stl")),
-        ("trailing", fixture!("trailing_bytes.stl")),
-        ("truncated", fixture!("truncated.stl")),
-        ("two_components", fixture!("two_components.stl")),
-        ("headed plane", &headed),
+    let mut files: Vec<(&str, &[u8])> = common::fixtures().to_vec();
+    files.extend([
+        ("headed plane", headed.as_slice()),
         ("plane of 7200", &big),
         ("short", &big[..83]),
         ("cut plane", &big[..big.len() - 7]),
-    ];
+    ]);
     let mut streamed = 0;
     for (name, bytes) in files {
         let layout = binary_layout(&bytes[..bytes.len().min(STL_HEAD_BYTES)], bytes.len());

@@ -20,6 +20,46 @@ macro_rules! fixture {
     };
 }
 
+/// Every fixture in `tests/fixtures/` (its file name and bytes), for tests that run them all.
+pub fn fixtures() -> [(&'static str, &'static [u8]); 25] {
+    [
+        ("all_nan.stl", fixture!("all_nan.stl")),
+        ("ascii_truncated.stl", fixture!("ascii_truncated.stl")),
+        ("bad_number.stl", fixture!("bad_number.stl")),
+        (
+            "binary_header_starts_with_solid.stl",
+            fixture!("binary_header_starts_with_solid.stl"),
+        ),
+        ("count_too_large.stl", fixture!("count_too_large.stl")),
+        ("cube_ascii.stl", fixture!("cube_ascii.stl")),
+        ("cube_binary.stl", fixture!("cube_binary.stl")),
+        (
+            "cube_crlf_uppercase.stl",
+            fixture!("cube_crlf_uppercase.stl"),
+        ),
+        (
+            "degenerate_triangle.stl",
+            fixture!("degenerate_triangle.stl"),
+        ),
+        ("empty.stl", fixture!("empty.stl")),
+        ("flipped_faces.stl", fixture!("flipped_faces.stl")),
+        ("four_vertices.stl", fixture!("four_vertices.stl")),
+        ("inf_vertex_ascii.stl", fixture!("inf_vertex_ascii.stl")),
+        ("inside_out_cube.stl", fixture!("inside_out_cube.stl")),
+        ("nan_vertex.stl", fixture!("nan_vertex.stl")),
+        ("no_endsolid.stl", fixture!("no_endsolid.stl")),
+        ("no_triangles.stl", fixture!("no_triangles.stl")),
+        ("nonmanifold_edge.stl", fixture!("nonmanifold_edge.stl")),
+        ("not_stl.txt", fixture!("not_stl.txt")),
+        ("open_strip.stl", fixture!("open_strip.stl")),
+        ("png_header.stl", fixture!("png_header.stl")),
+        ("single_triangle.stl", fixture!("single_triangle.stl")),
+        ("trailing_bytes.stl", fixture!("trailing_bytes.stl")),
+        ("truncated.stl", fixture!("truncated.stl")),
+        ("two_components.stl", fixture!("two_components.stl")),
+    ]
+}
+
 /// `assert!((a - b).abs() <= tol)` with the values in the message.
 #[macro_export]
 macro_rules! assert_near {
