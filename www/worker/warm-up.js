@@ -10,7 +10,7 @@
 // with focal points), make that code hot while the user is still looking at the model;
 // `npm run bench -- geodesic` times a first call after it as the page's.
 //
-// Cost: a few tens of milliseconds of the worker's idle time and about a megabyte of memory,
+// Cost: about a tenth of a second of the worker's idle time and a few megabytes of memory,
 // freed at once. It runs once per worker (Cancel replaces the worker, whose next model warms
 // it again).
 
