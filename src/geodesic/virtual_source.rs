@@ -38,11 +38,14 @@
 //!         0.00013 (fast marching 3.0 / 1.3 and 2.9 / 1.2); the cap from its section by
 //!         the plane at θ = 0.6 (the accuracy example, native), 0.043 / 0.0028 and 0.0051 /
 //!         0.0008; by the plane through its ring of vertices nearest to θ = 0.6, 0.011 /
-//!         0.0015 at 500k. Known gap: the same plane at 200k and 1M triangles, 0.34 and 0.16
-//!         mm one ring from the section on its convex side, where a piece of the section
-//!         shorter than the spacing of the vertices is the nearest to a vertex of the next
-//!         ring but held by none of its neighbours (each holds its own nearest piece), so it
-//!         gets the end of the next piece. Time on a shared machine (one run), ratio to fast
+//!         0.0015 at 500k. Known gap: the plane at θ = 0.6 at other resolutions, within a
+//!         few rings of the section on its convex side: 1.15 mm at 20k triangles, 0.10 at
+//!         100k, 0.41 at 150k, 0.34 at 200k, 0.25 at 400k, 0.16 at 1M (0.0085 at 700k). A
+//!         piece of the section shorter than the spacing of the vertices is the nearest to a
+//!         vertex a ring or two out but held by none of its neighbours (each holds its own
+//!         nearest piece, and a piece stops at an end where the curve turns away), so that
+//!         vertex gets the end of the next piece; the fix is a piece that continues along the
+//!         next one there. Time on a shared machine (one run), ratio to fast
 //!         marching's solve: cap 500k 0.85×, 2M 0.66×; sphere 500k 0.95×, 2M 0.82× (about
 //!         1.1 of the time without front interpolation at 500k, alternating the builds; fast
 //!         marching itself moves by 10–15 % between runs). The bench times a first call in a
