@@ -36,17 +36,12 @@
 //!         rim, 500k triangles 0.0062 / 0.0009, 2M 0.0031 / 0.0002 (fast marching 1.8 / 0.10
 //!         and 1.0 / 0.05); sphere R 100 from a point, 500k 0.0078 / 0.0006, 2M 0.0043 /
 //!         0.00013 (fast marching 3.0 / 1.3 and 2.9 / 1.2); the cap from its section by
-//!         the plane at θ = 0.6 (the accuracy example, native), 0.043 / 0.0028 and 0.0051 /
-//!         0.0008; by the plane through its ring of vertices nearest to θ = 0.6, 0.011 /
-//!         0.0015 at 500k. Known gap: the plane at θ = 0.6 at other resolutions, within a
-//!         few rings of the section on its convex side: 1.15 mm at 20k triangles, 0.10 at
-//!         100k, 0.41 at 150k, 0.34 at 200k, 0.25 at 400k, 0.16 at 1M (0.0085 at 700k). A
-//!         piece of the section shorter than the spacing of the vertices is the nearest to a
-//!         vertex a ring or two out but held by none of its neighbours (each holds its own
-//!         nearest piece, and a piece stops at an end where the curve turns away), so that
-//!         vertex gets the end of the next piece; the fix is a piece that continues along the
-//!         next one there. Time on a shared machine (one run), ratio to fast
-//!         marching's solve: cap 500k 0.85×, 2M 0.66×; sphere 500k 0.95×, 2M 0.82× (about
+//!         the plane at θ = 0.6 (the accuracy example, native), 0.012 / 0.0036 and 0.0058 /
+//!         0.0006; by the plane through its ring of vertices nearest to θ = 0.6, 0.011 /
+//!         0.0015 at 500k. The plane at θ = 0.6 at other resolutions (max error, mm): 20k
+//!         triangles 0.19, 70k 0.060, 150k 0.034, 200k 0.025, 400k 0.013, 1M 0.0061 (before
+//!         [`Solver::follow_curve`]: 1.15, 0.60, 0.41, 0.34, 0.25, 0.16; 500k 0.043). Time
+//!         on a shared machine (one run), ratio to fast marching's solve: cap 500k 0.85×, 2M 0.66×; sphere 500k 0.95×, 2M 0.82× (about
 //!         1.1 of the time without front interpolation at 500k, alternating the builds; fast
 //!         marching itself moves by 10–15 % between runs). The bench times a first call in a
 //!         fresh process: at 500k its fixed costs (the engine's baseline code in loops run
@@ -73,6 +68,12 @@
 //!     from (4 bytes), and no offer, focal patch or interpolated front gives it less than
 //!     the straight line from there: an unfolding carried round a sharp edge (the trailing
 //!     edge of a coarse wing) and on past where it held is refused, not taken.
+//!   - A vertex settled past the end of its piece, where the piece stops for its side (the
+//!     curve turns away), looks at the next pieces of the curve carried rigidly with the one
+//!     it holds, and takes the nearest ([`Solver::follow_curve`]): a piece shorter than the
+//!     spacing of the vertices can be nearest to a vertex whose neighbours each hold a nearer
+//!     piece of their own. Pieces so carried are never offered below the straight line to
+//!     where they lie, and only while the source's plane has turned by less than 18°.
 //!   - An offer is used only when the straight segment from the source's nearest point to
 //!     `x` crosses the edge of the face opposite `x` (the paper accepts every offer); when
 //!     none does, `x` gets the path bending at the settled vertex, which then becomes a
@@ -138,6 +139,16 @@ impl Offered {
     }
 }
 
+/// Pieces of the curve [`Solver::follow_curve`] looks at beyond an end.
+const FOLLOW_PIECES: usize = 4;
+/// Pieces (sub-pieces of straight runs included) [`Solver::follow_curve`] steps over at most.
+const FOLLOW_STEPS: usize = 256;
+/// Faces under the pieces followed must be this close to coplanar (cosine of the angle
+/// between their normals and the held piece's) for a rigid carry (as in `fan_walk.rs`).
+const FOLLOW_COSINE: Real = 0.998;
+/// [`Solver::follow_curve`] carries pieces only for sources whose plane has turned by less
+/// than this (cosine, 18°) since they were seeded.
+const FOLLOW_TURN_COSINE: Real = 0.95;
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
 /// Relative slack of the lower bound on an offer (far above the rounding of the offer).
@@ -394,7 +405,32 @@ pub(super) struct Solver<'a> {
     origin: Vec<u32>,
     /// The positions of the source vertices.
     origins: Vec<Point3>,
+    /// For a source of curves only: the piece of the curves each vertex's source is (an
+    /// index into [`Self::pieces`], [`NO_PIECE`] for a point source); empty otherwise.
+    pub(super) piece: Vec<u32>,
+    /// The straight pieces of every source curve, in the curves' own coordinates, with the
+    /// normal of the face under each and the pieces before and after it (see
+    /// [`Self::follow_curve`]).
+    pub(super) pieces: Vec<CurvePiece>,
 }
+
+/// A piece of a source curve as seeded (see `seeding.rs`), with what
+/// [`Solver::follow_curve`] needs to carry its neighbours along with it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct CurvePiece {
+    pub(super) p: Point3,
+    pub(super) q: Point3,
+    pub(super) normal: Vector3,
+    pub(super) run_on: [[RunOn; 2]; 2],
+    /// The pieces before `p` and after `q` along the curve ([`NO_PIECE`] past an open end).
+    pub(super) before: u32,
+    pub(super) after: u32,
+}
+
+/// No piece of a source curve (see [`Solver::piece`]).
+pub(super) const NO_PIECE: u32 = u32::MAX;
+/// Marks in [`Solver::piece`] a piece carried along the curve by [`Solver::follow_curve`].
+pub(super) const CARRIED: u32 = 1 << 31;
 
 impl<'a> Solver<'a> {
     /// Nothing reached yet on `surface`.
@@ -417,6 +453,8 @@ impl<'a> Solver<'a> {
             defect: Vec::new(),
             origin: Vec::new(),
             origins: Vec::new(),
+            piece: Vec::new(),
+            pieces: Vec::new(),
         }
     }
 
@@ -466,6 +504,9 @@ impl<'a> Solver<'a> {
             };
             let v = v as usize;
             self.settled[v] = true;
+            if !self.piece.is_empty() && self.past_a_stop(v) {
+                self.follow_curve(v);
+            }
             self.settle(v);
         }
         true
@@ -643,9 +684,129 @@ impl<'a> Solver<'a> {
             if !self.origin.is_empty() {
                 self.origin[x] = self.origin[giver];
             }
+            if !self.piece.is_empty() {
+                self.piece[x] = if s.p == s.q {
+                    NO_PIECE
+                } else {
+                    self.piece[giver]
+                };
+            }
             if !self.wedge.is_empty() {
                 self.pass_wedge(x, &s, giver, walked);
             }
+        }
+    }
+
+    /// Settling `v`, whose source is a piece of a source curve: where its nearest point on
+    /// the piece is an end, the next pieces of the curve beyond that end, carried rigidly
+    /// with the piece it holds, may be nearer (no paper: a short piece can be the nearest to
+    /// a vertex whose neighbours each hold a nearer piece of their own, and a piece stops at
+    /// an end where the curve turns away); `v` takes the nearest.
+    /// Whether settled `v` holds a piece of a source curve and lies past an end of it where
+    /// the piece stops for `v`'s side (the curve turns away there): the case of
+    /// [`Self::follow_curve`], tested inline since most vertices are not.
+    #[inline(always)]
+    fn past_a_stop(&self, v: usize) -> bool {
+        if self.piece[v] == NO_PIECE {
+            return false;
+        }
+        let sv = &self.src[v];
+        let e = sv.q - sv.p;
+        let w = self.surface.mesh.positions()[v] - sv.p;
+        let (along, l2) = (w.dot(&e), e.norm_squared());
+        // (A zero-length piece, or NaN, is never past an end.)
+        if l2.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || (0.0..=l2).contains(&along)
+        {
+            return false;
+        }
+        let lateral = e
+            .cross(&w)
+            .dot(&self.surface.face_normals[sv.face as usize]);
+        let side = if lateral > 0.0 { 0 } else { 1 };
+        sv.run_on[side][usize::from(along > l2)] == RunOn::NONE
+    }
+
+    #[inline(never)]
+    fn follow_curve(&mut self, v: usize) {
+        let k = self.piece[v] & !CARRIED;
+        let sv = self.src[v];
+        let pv = self.surface.mesh.positions()[v];
+        let n = self.surface.face_normals[sv.face as usize];
+        let held = self.pieces[k as usize];
+        // Only where the source's plane has turned by less than 18° since it was seeded: on a
+        // coarse creased patch (a BWB's, edges of 1.3 m) a carry across creases put a piece
+        // off by a third of an edge.
+        if n.dot(&held.normal) < FOLLOW_TURN_COSINE {
+            return;
+        }
+        let e = sv.q - sv.p;
+        let t = (pv - sv.p).dot(&e) / e.norm_squared();
+        // The rigid motion taking the held piece (in the curve's frame) onto the source.
+        let frame = |p: &Point3, q: &Point3, normal: &Vector3| {
+            let e1 = (q - p).normalize();
+            let e3 = (normal - e1 * normal.dot(&e1)).normalize();
+            (e1, e3.cross(&e1), e3)
+        };
+        let (a1, a2, a3) = frame(&held.p, &held.q, &held.normal);
+        let (b1, b2, b3) = frame(&sv.p, &sv.q, &n);
+        if !(a3.iter().all(|c| c.is_finite()) && b3.iter().all(|c| c.is_finite())) {
+            return;
+        }
+        let carry = |y: &Point3| {
+            let w = y - held.p;
+            sv.p + b1 * w.dot(&a1) + b2 * w.dot(&a2) + b3 * w.dot(&a3)
+        };
+        let mut best = (self.dist[v], k);
+        let (mut j, mut last, mut runs) = (k, (held.p, held.q), 0);
+        // Each step moves one piece along the curve, at most FOLLOW_STEPS of them.
+        for _ in 0..FOLLOW_STEPS {
+            j = if t > 1.0 {
+                self.pieces[j as usize].after
+            } else {
+                self.pieces[j as usize].before
+            };
+            if j == NO_PIECE || j == k {
+                break;
+            }
+            let c = self.pieces[j as usize];
+            // The sub-pieces of one straight run hold the run: the next run is the next piece.
+            if (c.p, c.q) == last {
+                continue;
+            }
+            // Carried rigidly only where the curve's faces are nearly coplanar.
+            if c.normal.dot(&held.normal) < FOLLOW_COSINE {
+                break;
+            }
+            last = (c.p, c.q);
+            runs += 1;
+            if runs > FOLLOW_PIECES {
+                break;
+            }
+            let (p, q) = (carry(&c.p), carry(&c.q));
+            let f = foot(&pv, &p, &q, &c.run_on, &n, self.reach);
+            let d = (pv - f).norm();
+            // No path to the curve is shorter than the straight line to the piece where it
+            // lies: a carry below it went across creases on the way (a coarse BWB patch: 0.15
+            // m, an eighth of an edge, below the line), and is not taken.
+            let (straight, _) = segment_distance(&pv, &c.p, &c.q);
+            if !(d < best.0 && d >= straight * (1.0 - BOUND_SLACK)) {
+                // Where the curve turns away, the distance along it falls to the nearest
+                // point and then grows: past it, no piece further on is nearer.
+                break;
+            }
+            best = (d, j);
+        }
+        if best.1 != k {
+            let c = self.pieces[best.1 as usize];
+            self.dist[v] = best.0;
+            self.src[v] = Virtual {
+                p: carry(&c.p),
+                q: carry(&c.q),
+                sigma: 0.0,
+                face: sv.face,
+                run_on: c.run_on,
+            };
+            self.piece[v] = best.1 | CARRIED;
         }
     }
 
@@ -752,7 +913,8 @@ pub(crate) fn propagate(
     let pos = mesh.positions();
     let nv = mesh.vertex_count();
     // Worst case: a source, distance, two flags, a queue entry and its index, the source
-    // vertex it comes from, a wedge and a cached angle defect (see `wedge.rs`) per vertex,
+    // vertex or curve piece it comes from (one or the other), a wedge and a cached angle
+    // defect (see `wedge.rs`) per vertex,
     // the face normals (held by the surface) and the focal patches.
     let per_vertex = std::mem::size_of::<Virtual>()
         + std::mem::size_of::<Entry>()
@@ -778,6 +940,9 @@ pub(crate) fn propagate(
         if s.improve(v, 0.0, Virtual::point(pos[v], 0.0, face)) && !s.origin.is_empty() {
             s.origin[v] = i as u32;
         }
+    }
+    if !source.curves.is_empty() {
+        s.piece = vec![NO_PIECE; nv];
     }
     for curve in &source.curves {
         seeding::seed_curve(&mut s, curve);

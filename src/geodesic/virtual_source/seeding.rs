@@ -10,8 +10,8 @@
 //! Cost:   O(samples · ([`STRAIGHT_PIECES`] + [`RUN_ON_SAMPLES`] + [`SEED_WINDOW`])).
 
 use super::{
-    segment_distance, Rotation, RunOn, Solver, Surface, Virtual, FOLD_COSINE, ON_VERTEX,
-    SEED_WINDOW, STRAIGHT,
+    segment_distance, CurvePiece, Rotation, RunOn, Solver, Surface, Virtual, FOLD_COSINE, NO_PIECE,
+    ON_VERTEX, SEED_WINDOW, STRAIGHT,
 };
 use crate::geodesic::source::Curve;
 use crate::math::{Point3, Real, Vector3};
@@ -199,7 +199,7 @@ pub(super) fn seed_curve(s: &mut Solver, curve: &Curve) {
     let n = curve.points.len();
     let segs = if curve.closed && n > 2 { n } else { n - 1 };
     let pieces = source_pieces(curve, &surface.face_normals, s.reach);
-    let piece = |j: isize| -> Option<SourcePiece> {
+    let piece = |j: isize| -> Option<(usize, SourcePiece)> {
         let j = if n == 1 {
             0
         } else if curve.closed && n > 2 {
@@ -209,11 +209,36 @@ pub(super) fn seed_curve(s: &mut Solver, curve: &Curve) {
         } else {
             j as usize
         };
-        Some(pieces.get(j).copied().unwrap_or(SourcePiece {
-            p: curve.points[j],
-            q: curve.points[(j + 1) % n],
-            run_on: [[RunOn::NONE; 2]; 2],
-        }))
+        Some((
+            j,
+            pieces.get(j).copied().unwrap_or(SourcePiece {
+                p: curve.points[j],
+                q: curve.points[(j + 1) % n],
+                run_on: [[RunOn::NONE; 2]; 2],
+            }),
+        ))
+    };
+    // The curve's pieces in the solver's list, linked along the curve.
+    let base = s.pieces.len();
+    let count = segs.max(1);
+    for j in 0..count {
+        let Some((_, sp)) = piece(j as isize) else {
+            continue;
+        };
+        let link = |k: isize| piece(k).map_or(NO_PIECE, |(k, _)| (base + k) as u32);
+        s.pieces.push(CurvePiece {
+            p: sp.p,
+            q: sp.q,
+            normal: surface.face_normals[curve.faces[j.min(curve.faces.len() - 1)] as usize],
+            run_on: sp.run_on,
+            before: link(j as isize - 1),
+            after: link(j as isize + 1),
+        });
+    }
+    let seeded = |s: &mut Solver, w: usize, j: usize| {
+        if !s.piece.is_empty() {
+            s.piece[w] = (base + j) as u32;
+        }
     };
     let on_vertex = ON_VERTEX * surface.mean_edge;
     for (i, &f) in curve.faces.iter().enumerate() {
@@ -221,7 +246,7 @@ pub(super) fn seed_curve(s: &mut Solver, curve: &Curve) {
         for v in mesh.triangles()[f as usize] {
             let v = v as usize;
             let x = pos[v];
-            for piece in window.clone().filter_map(piece) {
+            for (j, piece) in window.clone().filter_map(piece) {
                 let (d, _) = segment_distance(&x, &piece.p, &piece.q);
                 let seg = Virtual {
                     p: piece.p,
@@ -230,7 +255,9 @@ pub(super) fn seed_curve(s: &mut Solver, curve: &Curve) {
                     face: f,
                     run_on: piece.run_on,
                 };
-                s.improve(v, d, seg);
+                if s.improve(v, d, seg) {
+                    seeded(s, v, j);
+                }
             }
             // A sample on a vertex (a plane through a ring of vertices) lies in every
             // face around it, not only in `f`: the corners of those faces are seeded
@@ -250,7 +277,7 @@ pub(super) fn seed_curve(s: &mut Solver, curve: &Curve) {
                 if g == f as usize || r.c <= FOLD_COSINE {
                     continue;
                 }
-                for piece in window.clone().filter_map(piece) {
+                for (j, piece) in window.clone().filter_map(piece) {
                     let (p, q) = (x + r.apply(piece.p - x), x + r.apply(piece.q - x));
                     for w in mesh.triangles()[g] {
                         let w = w as usize;
@@ -263,7 +290,9 @@ pub(super) fn seed_curve(s: &mut Solver, curve: &Curve) {
                                 face: g as u32,
                                 run_on: piece.run_on,
                             };
-                            s.improve(w, d, seg);
+                            if s.improve(w, d, seg) {
+                                seeded(s, w, j);
+                            }
                         }
                     }
                 }
