@@ -6,7 +6,9 @@
 //! Source: none (the virtual sources of Trettner, Bommes & Kobbelt 2021 are points; see
 //!         `virtual_source.rs` for segments as sources).
 //! Input:  a resolved source curve (dense on-surface samples and the face under each).
-//! Output: the first distances and sources of the [`Solver`].
+//! Output: the first distances and sources of the [`Solver`], which piece of the curve each
+//!         source is, and the pieces listed and linked along the curve (for
+//!         `Solver::follow_curve`).
 //! Cost:   O(samples · ([`STRAIGHT_PIECES`] + [`RUN_ON_SAMPLES`] + [`SEED_WINDOW`])).
 
 use super::{
