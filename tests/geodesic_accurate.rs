@@ -420,6 +420,38 @@ fn fronts_converging_on_the_cap_are_interpolated_between_the_sources_held() {
     );
 }
 
+/// `s` with its positions rounded to f32, as an STL stores them.
+fn rounded_to_f32(s: &Shape) -> Shape {
+    let positions = s.mesh.positions().iter();
+    shape(
+        positions.map(|p| p.map(|c| c as f32 as Real)).collect(),
+        s.mesh.triangles().to_vec(),
+    )
+}
+
+/// The accurate distance on a cap of radius `CAP_R` from its section by the plane
+/// z = R cos 0.6 (checked as a field), against the analytic R·|θ − 0.6|: the largest error
+/// within 50 mm of the section, and anywhere.
+fn errors_from_the_plane_at_0_6(s: &Shape) -> (Real, Real) {
+    let theta0: Real = 0.6;
+    let src = GeodesicSource::Plane {
+        point: Point3::new(CAP_R * libm::sin(theta0), 0.0, CAP_R * libm::cos(theta0)),
+        normal: skinpath::math::Vector3::z(),
+    };
+    let analytic = |p: &Point3| CAP_R * (libm::acos((p.z / CAP_R).clamp(-1.0, 1.0)) - theta0).abs();
+    let d = distance(s, &src, Method::Accurate).vertex_distance;
+    check_field(s, &d);
+    let (mut near, mut all): (Real, Real) = (0.0, 0.0);
+    for (p, d) in s.mesh.positions().iter().zip(&d) {
+        let e = (d - analytic(p)).abs();
+        all = all.max(e);
+        if analytic(p) < 50.0 {
+            near = near.max(e);
+        }
+    }
+    (near, all)
+}
+
 #[test]
 fn plane_section_source_is_accurate_on_its_convex_side_too() {
     // The cap of 100 rings (60 000 triangles, edges of 10 mm) from its section by the plane
@@ -439,32 +471,9 @@ fn plane_section_source_is_accurate_on_its_convex_side_too() {
     // here 0.067 mm within 50 mm of it (now 0.047, as with f64 positions), since the corners
     // of every face around such a sample are seeded.
     let exact = cap(100, CAP_R, 1.0);
-    let rounded = shape(
-        exact
-            .mesh
-            .positions()
-            .iter()
-            .map(|p| p.map(|c| c as f32 as Real))
-            .collect(),
-        exact.mesh.triangles().to_vec(),
-    );
-    let theta0: Real = 0.6;
-    let src = GeodesicSource::Plane {
-        point: Point3::new(CAP_R * libm::sin(theta0), 0.0, CAP_R * libm::cos(theta0)),
-        normal: skinpath::math::Vector3::z(),
-    };
-    let analytic = |p: &Point3| CAP_R * (libm::acos((p.z / CAP_R).clamp(-1.0, 1.0)) - theta0).abs();
+    let rounded = rounded_to_f32(&exact);
     for (name, s) in [("f64", exact), ("f32", rounded)] {
-        let d = distance(&s, &src, Method::Accurate).vertex_distance;
-        check_field(&s, &d);
-        let (mut near, mut all): (Real, Real) = (0.0, 0.0);
-        for (p, d) in s.mesh.positions().iter().zip(&d) {
-            let e = (d - analytic(p)).abs();
-            all = all.max(e);
-            if analytic(p) < 50.0 {
-                near = near.max(e);
-            }
-        }
+        let (near, all) = errors_from_the_plane_at_0_6(&s);
         eprintln!(
             "cap 100 rings ({name}) from a plane section: max error within 50 mm {near:.4}, \
              anywhere {all:.4}"
@@ -482,32 +491,8 @@ fn plane_sections_between_vertices_follow_the_curve_past_short_pieces() {
     // the piece they hold stops at its end there (the curve turns away), and the vertex got
     // that end: 0.60 mm too far 11 mm from the section. Vertices settled past such an end
     // now follow the curve's next pieces, carried with the one they hold.
-    let exact = cap(108, CAP_R, 1.0);
-    let s = shape(
-        exact
-            .mesh
-            .positions()
-            .iter()
-            .map(|p| p.map(|c| c as f32 as Real))
-            .collect(),
-        exact.mesh.triangles().to_vec(),
-    );
-    let theta0: Real = 0.6;
-    let src = GeodesicSource::Plane {
-        point: Point3::new(CAP_R * libm::sin(theta0), 0.0, CAP_R * libm::cos(theta0)),
-        normal: skinpath::math::Vector3::z(),
-    };
-    let analytic = |p: &Point3| CAP_R * (libm::acos((p.z / CAP_R).clamp(-1.0, 1.0)) - theta0).abs();
-    let d = distance(&s, &src, Method::Accurate).vertex_distance;
-    check_field(&s, &d);
-    let (mut near, mut all): (Real, Real) = (0.0, 0.0);
-    for (p, d) in s.mesh.positions().iter().zip(&d) {
-        let e = (d - analytic(p)).abs();
-        all = all.max(e);
-        if analytic(p) < 50.0 {
-            near = near.max(e);
-        }
-    }
+    let s = rounded_to_f32(&cap(108, CAP_R, 1.0));
+    let (near, all) = errors_from_the_plane_at_0_6(&s);
     eprintln!("cap 108 rings from a plane between rings: max error within 50 mm {near:.4}, anywhere {all:.4}");
     assert!(near < 0.05 && all < 0.08, "{near}, anywhere {all}");
 }

@@ -81,7 +81,9 @@
 //!     paths bend; an upper bound elsewhere).
 
 mod fan_walk;
+mod follow;
 mod queue;
+mod run_on;
 mod seeding;
 mod wedge;
 
@@ -92,7 +94,9 @@ use super::surface::{segment_distance, Surface};
 use super::unfolding::is_saddle_or_boundary;
 use super::unfolding::Entry;
 use crate::math::{Point3, Real, Vector3};
+use follow::{CurvePiece, NO_PIECE};
 use queue::Queue;
+pub(super) use run_on::{foot, RunOn};
 use wedge::Wedge;
 
 /// Relative slack (of the edge length) for a ray crossing an edge at or near its ends.
@@ -139,16 +143,6 @@ impl Offered {
     }
 }
 
-/// Pieces of the curve [`Solver::follow_curve`] looks at beyond an end.
-const FOLLOW_PIECES: usize = 4;
-/// Pieces (sub-pieces of straight runs included) [`Solver::follow_curve`] steps over at most.
-const FOLLOW_STEPS: usize = 256;
-/// Faces under the pieces followed must be this close to coplanar (cosine of the angle
-/// between their normals and the held piece's) for a rigid carry (as in `fan_walk.rs`).
-const FOLLOW_COSINE: Real = 0.998;
-/// [`Solver::follow_curve`] carries pieces only for sources whose plane has turned by less
-/// than this (cosine, 18°) since they were seeded.
-const FOLLOW_TURN_COSINE: Real = 0.95;
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
 /// Relative slack of the lower bound on an offer (far above the rounding of the offer).
@@ -189,142 +183,6 @@ impl Virtual {
     #[inline]
     pub(super) fn distance(&self, x: &Point3, normal: &Vector3, reach: Real) -> Real {
         self.sigma + (x - foot(x, &self.p, &self.q, &self.run_on, normal, reach)).norm()
-    }
-}
-
-/// How far a piece of a source curve runs on beyond one end, for the vertices on one side of
-/// it (no paper): `min(L, h·c)` for a vertex at distance `h` from the piece's line, `L` up to
-/// the solver's `reach` and `c` a cotangent, both kept in one byte and rounded down.
-///
-/// Why: beyond the end, up to `L` along the piece's line, the source curve keeps within the
-/// wedge between the line moved `RUN_ON_TOLERANCE` (in `seeding.rs`) away from the vertex's
-/// side and the ray at angle `φ` (`cot φ = c`) towards it (checked on its samples, see
-/// `source_pieces` in `seeding.rs`). Where `s ≤ h·cot φ` past the end, the curve then crosses
-/// the perpendicular from the vertex to the line no further from the vertex than the tolerance
-/// beyond the line, so the distance to the line, which the piece offers there, is never more
-/// than the tolerance below the distance to the curve. Where the curve turns away at its very
-/// next sample the piece does not run on for that side (see `seeding.rs`). Run on regardless
-/// (by the full reach wherever the curve turned towards the vertex at the end), a piece offered
-/// distances up to 0.63 m too short on a real airliner patch, shorter than the straight line to
-/// the boundary: past a corner, a hairpin or a turn away further on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) struct RunOn(u8);
-
-impl RunOn {
-    /// Stops at the end.
-    pub(super) const NONE: RunOn = RunOn(0);
-    /// Runs on by the full reach, whatever the distance from the line.
-    pub(super) const FREE: RunOn = RunOn(u8::MAX);
-    /// Steps of the length (in fifteenths of the reach) and code of "no bound on the
-    /// cotangent".
-    const STEPS: u8 = 15;
-
-    /// The bounds for `length` (a fraction of the reach) and cotangent `cot` (`∞`: none),
-    /// rounded down: the length to fifteenths, the cotangent to a power of two from 1/64 to
-    /// 256. A cotangent below 1/64 (a turn over 89°), a length under a fifteenth or NaN:
-    /// [`RunOn::NONE`].
-    pub(super) fn new(length: Real, cot: Real) -> RunOn {
-        let steps = length * Real::from(Self::STEPS);
-        if !(steps >= 1.0 && cot >= 1.0 / 64.0) {
-            return RunOn::NONE;
-        }
-        let steps = if steps >= Real::from(Self::STEPS) {
-            Self::STEPS
-        } else {
-            steps as u8
-        };
-        let cot = if cot == Real::INFINITY {
-            Self::STEPS
-        } else {
-            // ⌊log2 cot⌋ + 6 from the exponent bits (cot ≥ 1/64 is a normal float).
-            let exponent = ((cot.to_bits() >> 52) & 0x7ff) as i64 - 1023;
-            (exponent + 6).min(i64::from(Self::STEPS) - 1) as u8
-        };
-        RunOn(steps << 4 | cot)
-    }
-
-    /// The tighter bound of the two, each part.
-    pub(super) fn tighter(self, other: RunOn) -> RunOn {
-        let (a, b) = (self.0, other.0);
-        RunOn((a >> 4).min(b >> 4) << 4 | (a & 15).min(b & 15))
-    }
-
-    /// How far to run on for a vertex at distance `h` from the line.
-    #[inline]
-    fn run(self, h: Real, reach: Real) -> Real {
-        let steps = self.0 >> 4;
-        let mut run = if steps == Self::STEPS {
-            reach
-        } else {
-            reach * Real::from(steps) / Real::from(Self::STEPS)
-        };
-        let cot = self.0 & 15;
-        if cot != Self::STEPS {
-            let cot = Real::from_bits(((i64::from(cot) - 6 + 1023) as u64) << 52);
-            // A comparison, not `Real::min` (a call to `fmin` in WebAssembly builds).
-            if h * cot < run {
-                run = h * cot;
-            }
-        }
-        run
-    }
-}
-
-/// The nearest point to `x` of segment `[p, q]` (in the plane of normal `normal`), run on
-/// beyond its ends as `run_on[side]` allows for x's side, `reach` (a length) at most.
-#[inline(always)]
-pub(super) fn foot(
-    x: &Point3,
-    p: &Point3,
-    q: &Point3,
-    run_on: &[[RunOn; 2]; 2],
-    normal: &Vector3,
-    reach: Real,
-) -> Point3 {
-    let e = q - p;
-    let l2 = e.norm_squared();
-    if l2 > 0.0 {
-        let t = (x - p).dot(&e) / l2;
-        let end = if t < 0.0 {
-            0
-        } else if t > 1.0 {
-            1
-        } else {
-            return p + e * t;
-        };
-        // Left, right, or on the line (rounding): then the nearer bound of the two.
-        let lateral = e.cross(&(x - p)).dot(normal);
-        let code = if lateral > 0.0 {
-            run_on[0][end]
-        } else if lateral < 0.0 {
-            run_on[1][end]
-        } else {
-            run_on[0][end].tighter(run_on[1][end])
-        };
-        if code == RunOn::NONE {
-            return if end == 0 { *p } else { *q };
-        }
-        let run = if code == RunOn::FREE {
-            reach
-        } else {
-            code.run((x - (p + e * t)).norm(), reach)
-        };
-        // Comparisons, not `Real::max` / `min` (calls in WebAssembly builds).
-        let r = run / l2.sqrt();
-        let t = if end == 0 {
-            if t < -r {
-                -r
-            } else {
-                t
-            }
-        } else if t > 1.0 + r {
-            1.0 + r
-        } else {
-            t
-        };
-        p + e * t
-    } else {
-        *p
     }
 }
 
@@ -406,31 +264,14 @@ pub(super) struct Solver<'a> {
     /// The positions of the source vertices.
     origins: Vec<Point3>,
     /// For a source of curves only: the piece of the curves each vertex's source is (an
-    /// index into [`Self::pieces`], [`NO_PIECE`] for a point source); empty otherwise.
-    pub(super) piece: Vec<u32>,
+    /// index into [`Self::pieces`], marked when carried along the curve, see `follow.rs`;
+    /// [`NO_PIECE`] for a point source); empty otherwise.
+    piece: Vec<u32>,
     /// The straight pieces of every source curve, in the curves' own coordinates, with the
     /// normal of the face under each and the pieces before and after it (see
     /// [`Self::follow_curve`]).
-    pub(super) pieces: Vec<CurvePiece>,
+    pieces: Vec<CurvePiece>,
 }
-
-/// A piece of a source curve as seeded (see `seeding.rs`), with what
-/// [`Solver::follow_curve`] needs to carry its neighbours along with it.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct CurvePiece {
-    pub(super) p: Point3,
-    pub(super) q: Point3,
-    pub(super) normal: Vector3,
-    pub(super) run_on: [[RunOn; 2]; 2],
-    /// The pieces before `p` and after `q` along the curve ([`NO_PIECE`] past an open end).
-    pub(super) before: u32,
-    pub(super) after: u32,
-}
-
-/// No piece of a source curve (see [`Solver::piece`]).
-pub(super) const NO_PIECE: u32 = u32::MAX;
-/// Marks in [`Solver::piece`] a piece carried along the curve by [`Solver::follow_curve`].
-pub(super) const CARRIED: u32 = 1 << 31;
 
 impl<'a> Solver<'a> {
     /// Nothing reached yet on `surface`.
@@ -504,8 +345,10 @@ impl<'a> Solver<'a> {
             };
             let v = v as usize;
             self.settled[v] = true;
-            if !self.piece.is_empty() && self.past_a_stop(v) {
-                self.follow_curve(v);
+            if !self.piece.is_empty() {
+                if let Some(beyond_q) = self.past_a_stop(v) {
+                    self.follow_curve(v, beyond_q);
+                }
             }
             self.settle(v);
         }
@@ -694,119 +537,6 @@ impl<'a> Solver<'a> {
             if !self.wedge.is_empty() {
                 self.pass_wedge(x, &s, giver, walked);
             }
-        }
-    }
-
-    /// Settling `v`, whose source is a piece of a source curve: where its nearest point on
-    /// the piece is an end, the next pieces of the curve beyond that end, carried rigidly
-    /// with the piece it holds, may be nearer (no paper: a short piece can be the nearest to
-    /// a vertex whose neighbours each hold a nearer piece of their own, and a piece stops at
-    /// an end where the curve turns away); `v` takes the nearest.
-    /// Whether settled `v` holds a piece of a source curve and lies past an end of it where
-    /// the piece stops for `v`'s side (the curve turns away there): the case of
-    /// [`Self::follow_curve`], tested inline since most vertices are not.
-    #[inline(always)]
-    fn past_a_stop(&self, v: usize) -> bool {
-        if self.piece[v] == NO_PIECE {
-            return false;
-        }
-        let sv = &self.src[v];
-        let e = sv.q - sv.p;
-        let w = self.surface.mesh.positions()[v] - sv.p;
-        let (along, l2) = (w.dot(&e), e.norm_squared());
-        // (A zero-length piece, or NaN, is never past an end.)
-        if l2.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || (0.0..=l2).contains(&along)
-        {
-            return false;
-        }
-        let lateral = e
-            .cross(&w)
-            .dot(&self.surface.face_normals[sv.face as usize]);
-        let side = if lateral > 0.0 { 0 } else { 1 };
-        sv.run_on[side][usize::from(along > l2)] == RunOn::NONE
-    }
-
-    #[inline(never)]
-    fn follow_curve(&mut self, v: usize) {
-        let k = self.piece[v] & !CARRIED;
-        let sv = self.src[v];
-        let pv = self.surface.mesh.positions()[v];
-        let n = self.surface.face_normals[sv.face as usize];
-        let held = self.pieces[k as usize];
-        // Only where the source's plane has turned by less than 18° since it was seeded: on a
-        // coarse creased patch (a BWB's, edges of 1.3 m) a carry across creases put a piece
-        // off by a third of an edge.
-        if n.dot(&held.normal) < FOLLOW_TURN_COSINE {
-            return;
-        }
-        let e = sv.q - sv.p;
-        let t = (pv - sv.p).dot(&e) / e.norm_squared();
-        // The rigid motion taking the held piece (in the curve's frame) onto the source.
-        let frame = |p: &Point3, q: &Point3, normal: &Vector3| {
-            let e1 = (q - p).normalize();
-            let e3 = (normal - e1 * normal.dot(&e1)).normalize();
-            (e1, e3.cross(&e1), e3)
-        };
-        let (a1, a2, a3) = frame(&held.p, &held.q, &held.normal);
-        let (b1, b2, b3) = frame(&sv.p, &sv.q, &n);
-        if !(a3.iter().all(|c| c.is_finite()) && b3.iter().all(|c| c.is_finite())) {
-            return;
-        }
-        let carry = |y: &Point3| {
-            let w = y - held.p;
-            sv.p + b1 * w.dot(&a1) + b2 * w.dot(&a2) + b3 * w.dot(&a3)
-        };
-        let mut best = (self.dist[v], k);
-        let (mut j, mut last, mut runs) = (k, (held.p, held.q), 0);
-        // Each step moves one piece along the curve, at most FOLLOW_STEPS of them.
-        for _ in 0..FOLLOW_STEPS {
-            j = if t > 1.0 {
-                self.pieces[j as usize].after
-            } else {
-                self.pieces[j as usize].before
-            };
-            if j == NO_PIECE || j == k {
-                break;
-            }
-            let c = self.pieces[j as usize];
-            // The sub-pieces of one straight run hold the run: the next run is the next piece.
-            if (c.p, c.q) == last {
-                continue;
-            }
-            // Carried rigidly only where the curve's faces are nearly coplanar.
-            if c.normal.dot(&held.normal) < FOLLOW_COSINE {
-                break;
-            }
-            last = (c.p, c.q);
-            runs += 1;
-            if runs > FOLLOW_PIECES {
-                break;
-            }
-            let (p, q) = (carry(&c.p), carry(&c.q));
-            let f = foot(&pv, &p, &q, &c.run_on, &n, self.reach);
-            let d = (pv - f).norm();
-            // No path to the curve is shorter than the straight line to the piece where it
-            // lies: a carry below it went across creases on the way (a coarse BWB patch: 0.15
-            // m, an eighth of an edge, below the line), and is not taken.
-            let (straight, _) = segment_distance(&pv, &c.p, &c.q);
-            if !(d < best.0 && d >= straight * (1.0 - BOUND_SLACK)) {
-                // Where the curve turns away, the distance along it falls to the nearest
-                // point and then grows: past it, no piece further on is nearer.
-                break;
-            }
-            best = (d, j);
-        }
-        if best.1 != k {
-            let c = self.pieces[best.1 as usize];
-            self.dist[v] = best.0;
-            self.src[v] = Virtual {
-                p: carry(&c.p),
-                q: carry(&c.q),
-                sigma: 0.0,
-                face: sv.face,
-                run_on: c.run_on,
-            };
-            self.piece[v] = best.1 | CARRIED;
         }
     }
 
@@ -999,69 +729,5 @@ mod tests {
         // The axis n1 × n2 = y is fixed.
         let y = Vector3::new(0.0, 1.0, 0.0);
         assert!((rotate(y, &n1, &n2) - y).norm() < 1e-15);
-    }
-
-    #[test]
-    fn foot_is_the_nearest_point_of_the_segment_run_on_as_its_side_allows() {
-        let (p, q) = (Point3::new(0.0, 0.0, 0.0), Point3::new(2.0, 0.0, 0.0));
-        let (none, reach, up) = ([[RunOn::NONE; 2]; 2], 1.5, Vector3::z());
-        let foot = |x: [Real; 3], run_on: &[[RunOn; 2]; 2]| {
-            foot(&Point3::new(x[0], x[1], x[2]), &p, &q, run_on, &up, reach)
-        };
-        assert_eq!(foot([1.0, 3.0, 0.0], &none), Point3::new(1.0, 0.0, 0.0));
-        assert_eq!(foot([-1.0, 3.0, 0.0], &none), p);
-        assert_eq!(foot([5.0, 1.0, 0.0], &none), q);
-        // Runs on beyond p for the left side (y > 0) only.
-        let left = [[RunOn::FREE, RunOn::NONE], [RunOn::NONE; 2]];
-        assert_eq!(foot([-1.0, 3.0, 0.0], &left), Point3::new(-1.0, 0.0, 0.0));
-        assert_eq!(foot([-9.0, 3.0, 0.0], &left), Point3::new(-reach, 0.0, 0.0));
-        assert_eq!(foot([-1.0, -3.0, 0.0], &left), p);
-        // Half the reach (7/15 after rounding down), and a cotangent of 1/2 (exact in the
-        // code): min(7/15 · 1.5, h / 2).
-        let bounded = [[RunOn::new(0.5, 0.5), RunOn::NONE], [RunOn::NONE; 2]];
-        assert_eq!(
-            foot([-5.0, 3.0, 0.0], &bounded),
-            Point3::new(-0.7, 0.0, 0.0)
-        );
-        assert_eq!(
-            foot([-5.0, 1.0, 0.0], &bounded),
-            Point3::new(-0.5, 0.0, 0.0)
-        );
-        // On the line (rounding decides the side): the tighter of the two sides.
-        let sides = [
-            [RunOn::FREE, RunOn::NONE],
-            [RunOn::new(1.0, 0.5), RunOn::NONE],
-        ];
-        assert_eq!(foot([-1.0, 0.0, 0.0], &sides), p);
-    }
-
-    #[test]
-    fn run_on_bounds_round_down_and_refuse_steep_turns_and_nan() {
-        let code = RunOn::new(1.0, 3.0);
-        assert_eq!(code.run(1.0, 10.0), 2.0, "cot 3 rounds down to 2");
-        assert_eq!(code.run(100.0, 10.0), 10.0, "the reach bounds it");
-        assert_eq!(
-            RunOn::new(0.99, Real::INFINITY).run(1e9, 15.0),
-            14.0,
-            "14/15 of the reach"
-        );
-        assert_eq!(RunOn::new(2.0, Real::INFINITY), RunOn::FREE);
-        for (length, cot) in [
-            (0.05, 1.0),
-            (1.0, 0.01),
-            (Real::NAN, 1.0),
-            (1.0, Real::NAN),
-            (1.0, -2.0),
-        ] {
-            assert_eq!(RunOn::new(length, cot), RunOn::NONE, "{length} {cot}");
-        }
-        assert_eq!(
-            RunOn::new(1.0, 1e30).run(1.0, 1e9),
-            256.0,
-            "the largest bound is 256"
-        );
-        let tight = RunOn::new(0.5, 8.0).tighter(RunOn::new(1.0, 2.0));
-        assert_eq!(tight.run(1.0, 15.0), 2.0);
-        assert_eq!(tight.run(10.0, 15.0), 7.0);
     }
 }

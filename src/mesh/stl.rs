@@ -24,8 +24,10 @@ use super::{MeshError, TriMesh, Welder, PROGRESS_EVERY};
 use crate::math::Point3;
 
 const HEADER_BYTES: usize = 80;
-const BINARY_PREAMBLE: usize = HEADER_BYTES + 4;
-const BINARY_TRIANGLE_BYTES: usize = 50;
+/// Bytes before a binary STL file's first record: the header and the triangle count.
+pub const STL_PREAMBLE_BYTES: usize = HEADER_BYTES + 4;
+/// Bytes of a binary STL record: a normal and three corners as `f32` LE, a `u16` attribute.
+pub const STL_RECORD_BYTES: usize = 50;
 
 /// Why bytes could not be read as STL. The messages are meant for the person who chose the file.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -172,7 +174,7 @@ pub fn read_stl_with_progress(
     // Text editors and some exporters begin UTF-8 text with a byte-order mark.
     let text = bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes);
     let starts_with_solid = starts_with_solid(text);
-    if bytes.len() < BINARY_PREAMBLE {
+    if bytes.len() < STL_PREAMBLE_BYTES {
         return if starts_with_solid {
             read_ascii(text, progress)
         } else {
@@ -183,7 +185,7 @@ pub fn read_stl_with_progress(
         return read_binary(bytes, count, progress);
     }
     let declared = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
-    let needed = BINARY_PREAMBLE as u64 + BINARY_TRIANGLE_BYTES as u64 * declared;
+    let needed = STL_PREAMBLE_BYTES as u64 + STL_RECORD_BYTES as u64 * declared;
     let len = bytes.len() as u64;
     if starts_with_solid && looks_like_text(text) {
         return read_ascii(text, progress);
@@ -191,9 +193,9 @@ pub fn read_stl_with_progress(
     if needed < len {
         return read_binary(bytes, declared as usize, progress);
     }
-    let present = (len - BINARY_PREAMBLE as u64) / BINARY_TRIANGLE_BYTES as u64;
-    let whole = (len - BINARY_PREAMBLE as u64) % BINARY_TRIANGLE_BYTES as u64 == 0;
-    if !looks_like_triangles(&bytes[BINARY_PREAMBLE..]) {
+    let present = (len - STL_PREAMBLE_BYTES as u64) / STL_RECORD_BYTES as u64;
+    let whole = (len - STL_PREAMBLE_BYTES as u64) % STL_RECORD_BYTES as u64 == 0;
+    if !looks_like_triangles(&bytes[STL_PREAMBLE_BYTES..]) {
         Err(StlError::NotStl {
             declared,
             needed,
@@ -226,11 +228,11 @@ pub const STL_HEAD_BYTES: usize = 4096;
 /// file decides). So that a caller holding the file elsewhere can stream its triangles
 /// through a [`BinaryStl`] instead of copying it whole first.
 pub fn binary_layout(head: &[u8], len: usize) -> Option<usize> {
-    if len < BINARY_PREAMBLE || head.len() < len.min(STL_HEAD_BYTES) {
+    if len < STL_PREAMBLE_BYTES || head.len() < len.min(STL_HEAD_BYTES) {
         return None;
     }
     let declared = u32::from_le_bytes([head[80], head[81], head[82], head[83]]) as u64;
-    let needed = BINARY_PREAMBLE as u64 + BINARY_TRIANGLE_BYTES as u64 * declared;
+    let needed = STL_PREAMBLE_BYTES as u64 + STL_RECORD_BYTES as u64 * declared;
     let text = head.strip_prefix(UTF8_BOM).unwrap_or(head);
     // `read_stl` takes a file whose count leaves bytes over for ASCII when it begins with
     // `solid` and looks like text: only a start that is not text is sure to be binary here.
@@ -243,8 +245,8 @@ pub fn binary_layout(head: &[u8], len: usize) -> Option<usize> {
 /// plausibility test that tells a cut-off STL from another kind of file).
 fn looks_like_triangles(data: &[u8]) -> bool {
     const PLAUSIBLE: f32 = 1e20;
-    data.len() >= BINARY_TRIANGLE_BYTES
-        && data.chunks_exact(BINARY_TRIANGLE_BYTES).take(256).all(|r| {
+    data.len() >= STL_RECORD_BYTES
+        && data.chunks_exact(STL_RECORD_BYTES).take(256).all(|r| {
             r[12..48].chunks_exact(4).all(|b| {
                 let c = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
                 c.is_finite() && c.abs() < PLAUSIBLE
@@ -294,9 +296,9 @@ fn read_binary(
     count: usize,
     progress: &mut dyn FnMut(&str, f64),
 ) -> Result<StlImport, StlError> {
-    let data_end = BINARY_PREAMBLE + count * BINARY_TRIANGLE_BYTES;
+    let data_end = STL_PREAMBLE_BYTES + count * STL_RECORD_BYTES;
     let mut reader = BinaryStl::new(count);
-    reader.feed(&bytes[BINARY_PREAMBLE..data_end], progress);
+    reader.feed(&bytes[STL_PREAMBLE_BYTES..data_end], progress);
     reader.finish(bytes.len() - data_end, progress)
 }
 
@@ -310,12 +312,6 @@ pub struct BinaryStl {
     read: usize,
     skipped: usize,
 }
-
-/// Bytes of a binary STL record: a normal and three corners as `f32` LE, a `u16` attribute.
-pub const STL_RECORD_BYTES: usize = BINARY_TRIANGLE_BYTES;
-
-/// Bytes before a binary STL file's first record: the header and the triangle count.
-pub const STL_PREAMBLE_BYTES: usize = BINARY_PREAMBLE;
 
 impl BinaryStl {
     /// A reader of the `count` records (as the header gives it) of a binary file.
@@ -331,12 +327,12 @@ impl BinaryStl {
     /// Reads the next whole records (`records.len()` a multiple of [`STL_RECORD_BYTES`]; a
     /// partial record at the end is ignored), reporting `("parse", fraction)` now and then.
     pub fn feed(&mut self, records: &[u8], progress: &mut dyn FnMut(&str, f64)) {
-        for chunk in records.chunks_exact(BINARY_TRIANGLE_BYTES) {
+        for chunk in records.chunks_exact(STL_RECORD_BYTES) {
             if self.read % PROGRESS_EVERY == 0 {
                 progress("parse", self.read as f64 / self.count as f64);
             }
             self.read += 1;
-            let Ok(record) = <&[u8; BINARY_TRIANGLE_BYTES]>::try_from(chunk) else {
+            let Ok(record) = <&[u8; STL_RECORD_BYTES]>::try_from(chunk) else {
                 continue; // chunks_exact yields whole records only
             };
             // Bytes 0..12 hold the file's normal, which is ignored. The corners are read as
@@ -651,7 +647,7 @@ where
             vertices: [to_vertex(&a), to_vertex(&b), to_vertex(&c)],
         }
     });
-    let mut out = Vec::with_capacity(BINARY_PREAMBLE + BINARY_TRIANGLE_BYTES * stl_triangles.len());
+    let mut out = Vec::with_capacity(STL_PREAMBLE_BYTES + STL_RECORD_BYTES * stl_triangles.len());
     stl_io::write_stl(&mut out, stl_triangles).expect("writing to a Vec<u8> cannot fail");
     out
 }
