@@ -3,6 +3,7 @@
 
 mod adjacency;
 mod face_geometry;
+mod face_groups;
 mod import;
 mod orientation;
 mod spatial_index;
@@ -16,6 +17,7 @@ const PROGRESS_EVERY: usize = 1 << 16;
 
 pub use adjacency::{FaceAdjacency, MAX_FACES, NO_FACE};
 pub use face_geometry::FaceGeometry;
+pub use face_groups::{bounding_sphere, DrawChunk, DrawWriter, FaceGroups, EMPTY_BOX};
 pub use import::{import_stl, prepare_mesh, ImportedMesh, MeshReport};
 pub use orientation::{orient_consistently, OrientationReport};
 pub use spatial_index::{ClosestPoint, MeshIndex, RayHit};

@@ -6,12 +6,12 @@
 //! `Mesh` (`Option<&Mesh>`); taking `Option<Mesh>` would consume the caller's handle. The
 //! glue refuses `correctHoles(params, mesh)` and points to `mesh.correctHoles(params)`.
 
-use super::params::{read_number_list, ParamReader};
+use super::params::{read_number_list, set, ParamReader};
 use super::Mesh;
 use crate::drill::{self, CorrectionParams, MeshIndex, Method, ReferenceHole};
 use crate::math::{Point3, Vector3};
 use crate::toolpath::{to_csv, to_json, to_krl, to_rapid};
-use js_sys::{Array, Float64Array, Object, Reflect, Uint32Array, Uint8Array};
+use js_sys::{Array, Float64Array, Object, Uint32Array, Uint8Array};
 use wasm_bindgen::prelude::*;
 
 /// Keys of the `correctHoles` parameter object.
@@ -103,12 +103,6 @@ fn four(flat: &[f64], name: &str) -> Result<[Point3; 4], JsError> {
             p.len()
         ))
     })
-}
-
-fn set(object: &Object, key: &str, value: &JsValue) -> Result<(), JsError> {
-    Reflect::set(object, &JsValue::from_str(key), value)
-        .map_err(|_| JsError::new(&format!("could not set {key} on the result")))?;
-    Ok(())
 }
 
 fn flat_f64<'a>(v: impl IntoIterator<Item = &'a [f64]>) -> Float64Array {

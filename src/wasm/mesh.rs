@@ -5,8 +5,8 @@ use super::params::{byte_array, copy_all, copy_bytes, read_callback, read_index_
 use super::{progress_fn, DistanceField, Segmentation, SprayPlan};
 use crate::math::Real;
 use crate::mesh::{
-    binary_layout, prepare_mesh, read_stl_with_progress, BinaryStl, ImportedMesh, StlImport,
-    STL_HEAD_BYTES, STL_PREAMBLE_BYTES, STL_RECORD_BYTES,
+    binary_layout, prepare_mesh, read_stl_with_progress, BinaryStl, FaceGroups, ImportedMesh,
+    StlImport, STL_HEAD_BYTES, STL_PREAMBLE_BYTES, STL_RECORD_BYTES,
 };
 use js_sys::Uint8Array;
 use std::rc::Rc;
@@ -107,6 +107,19 @@ impl Mesh {
     /// Vertex indices, 3 per triangle, in the consistent winding the segmentation used.
     pub fn indices(&self) -> Vec<u32> {
         self.inner.mesh.triangles().as_flattened().to_vec()
+    }
+
+    /// Draw buffers with every face in one group (see `DisplayBuffers`);
+    /// `onProgress(stage, fraction)` is optional.
+    #[wasm_bindgen(js_name = displayBuffers, unchecked_return_type = "DisplayBuffers")]
+    pub fn display_buffers(
+        &self,
+        #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
+        on_progress: Option<JsValue>,
+    ) -> Result<JsValue, JsError> {
+        let mut progress = progress_fn(read_callback(on_progress, "onProgress")?);
+        let groups = FaceGroups::new(self.inner.mesh.triangle_count(), 1, |_| 0);
+        super::display::display_buffers(&self.inner, &groups, &mut progress)
     }
 
     /// What was found while reading: counts, area, bounding box, defects (see `MeshReport`).

@@ -2,6 +2,7 @@
 //! function and convert back. Names are camelCase through `js_name`. Every failure reaches
 //! JavaScript as an `Error` whose message is the core's; a panic is a bug.
 
+mod display;
 mod drill;
 mod geodesic;
 mod index;

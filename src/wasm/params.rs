@@ -664,3 +664,10 @@ fn check_list_length(length: u32, name: &str) -> Result<(), ArgError> {
     }
     Ok(())
 }
+
+/// Sets `object[key] = value` on a result object being built.
+pub(super) fn set(object: &js_sys::Object, key: &str, value: &JsValue) -> Result<(), JsError> {
+    Reflect::set(object, &JsValue::from_str(key), value)
+        .map_err(|_| JsError::new(&format!("could not set {key} on the result")))?;
+    Ok(())
+}

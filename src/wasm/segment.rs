@@ -1,10 +1,10 @@
 //! `Segmentation`: the patches of one `Mesh.segment` call (JavaScript must call `free()`).
 
 use super::index::{hit_to_js, index_of, read_ray, SharedIndex};
-use super::params::{describe, integer, read_number_list, ParamReader};
+use super::params::{describe, integer, read_callback, read_number_list, ParamReader};
 use super::progress_fn;
 use crate::math::{Compact, Real};
-use crate::mesh::ImportedMesh;
+use crate::mesh::{FaceGroups, ImportedMesh};
 use crate::segment::{
     segment_with_progress, Checked, GrindParams, GrowthThreshold, ParamsSpec, SeedRule,
     SegmentParams, SprayParams,
@@ -128,6 +128,23 @@ impl Segmentation {
     #[wasm_bindgen(js_name = patchOf)]
     pub fn patch_of(&self) -> Vec<i32> {
         self.inner.patch_of.clone()
+    }
+
+    /// Draw buffers grouped by patch: group `id` for each kept patch, then one for the
+    /// dropped triangles (see `DisplayBuffers`); `onProgress(stage, fraction)` is optional.
+    #[wasm_bindgen(js_name = displayBuffers, unchecked_return_type = "DisplayBuffers")]
+    pub fn display_buffers(
+        &self,
+        #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
+        on_progress: Option<JsValue>,
+    ) -> Result<JsValue, JsError> {
+        let mut progress = progress_fn(read_callback(on_progress, "onProgress")?);
+        let patch_of = &self.inner.patch_of;
+        let dropped = self.inner.patches.len();
+        let groups = FaceGroups::new(patch_of.len(), dropped + 1, |f| {
+            usize::try_from(patch_of[f]).unwrap_or(dropped)
+        });
+        super::display::display_buffers(&self.mesh, &groups, &mut progress)
     }
 
     /// `{ id, triangleCount, area, normal: [x,y,z], maxDeviation, centroid: [x,y,z] }[]`,

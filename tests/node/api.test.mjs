@@ -11,6 +11,7 @@ const pkg = join(root, 'dist', 'pkg');
 const wasm = await import(join(pkg, 'skinpath.js'));
 wasm.initSync({ module: readFileSync(join(pkg, 'skinpath_bg.wasm')) });
 const { Mesh, deriveThreshold, wasmMemoryBytes } = wasm;
+const { capStl } = await import(join(root, 'www', 'worker', 'warm-up.js'));
 const fixture = (name) => readFileSync(join(root, 'tests', 'fixtures', name));
 const model = (name) => readFileSync(join(root, '..', 'shared', 'models', name));
 const paper = { angleThreshold: 0.35, thetaMax: 1, minAreaRatio: 0.1 };
@@ -27,7 +28,8 @@ test('the generated TypeScript declarations name the whole API', () => {
     'raycast(origin: Float64Array | number[], direction: Float64Array | number[], hidden?: number[]): RayHit | null',
     'export interface RayHit {',
     'export function wasmMemoryBytes(): number', 'free(): void', 'export interface MeshReport {',
-    'export interface Patch {', 'export type ProgressCallback = (stage: string, fraction: number) => void;']) {
+    'export interface Patch {', 'displayBuffers(onProgress?: ProgressCallback): DisplayBuffers',
+    'export interface DisplayBuffers {', 'export type ProgressCallback = (stage: string, fraction: number) => void;']) {
     assert.ok(dts.includes(name), `skinpath.d.ts lacks "${name}"`);
   }
 });
@@ -113,6 +115,120 @@ test('fromStl streams a binary file from a view at any offset as from its own bu
   } finally {
     own.free();
     inside.free();
+  }
+});
+
+/**
+ * The draw buffers as the worker built them in JavaScript before the engine did: triangles
+ * grouped by patch (counting sort, file order within a patch, dropped ones last), corners
+ * expanded through the indices, a box per group and the sphere about the boxes' centre.
+ */
+function displayInJs(mesh, seg) {
+  const positions = mesh.positions();
+  const indices = mesh.indices();
+  const n = indices.length / 3;
+  const patchCount = seg ? seg.patchCount : 0;
+  const patchOf = seg ? seg.patchOf() : null;
+  const bucketOf = (t) => (patchOf && patchOf[t] >= 0 ? patchOf[t] : patchCount);
+  const ranges = new Uint32Array(2 * (patchCount + 1));
+  for (let t = 0; t < n; t++) ranges[2 * bucketOf(t) + 1]++;
+  const cursor = new Uint32Array(patchCount + 1);
+  for (let b = 0, start = 0; b <= patchCount; b++) {
+    ranges[2 * b] = start;
+    cursor[b] = start;
+    start += ranges[2 * b + 1];
+  }
+  const out = new Float32Array(9 * n);
+  const boxes = new Float32Array(6 * (patchCount + 1));
+  for (let b = 0; b <= patchCount; b++) boxes.set([Infinity, Infinity, Infinity, -Infinity, -Infinity, -Infinity], 6 * b);
+  for (let t = 0; t < n; t++) {
+    const b = bucketOf(t);
+    let o = 9 * cursor[b]++;
+    for (let k = 0; k < 3; k++) {
+      const v = 3 * indices[3 * t + k];
+      for (let i = 0; i < 3; i++) {
+        const x = positions[v + i];
+        out[o++] = x;
+        boxes[6 * b + i] = Math.min(boxes[6 * b + i], x);
+        boxes[6 * b + 3 + i] = Math.max(boxes[6 * b + 3 + i], x);
+      }
+    }
+  }
+  const min = [0, 1, 2].map((i) => Math.min(...Array.from({ length: patchCount + 1 }, (_, b) => boxes[6 * b + i])));
+  const max = [0, 1, 2].map((i) => Math.max(...Array.from({ length: patchCount + 1 }, (_, b) => boxes[6 * b + 3 + i])));
+  const c = [0, 1, 2].map((i) => (min[i] + max[i]) / 2);
+  let r2 = 0;
+  for (let v = 0; v < positions.length; v += 3) {
+    r2 = Math.max(r2, (positions[v] - c[0]) ** 2 + (positions[v + 1] - c[1]) ** 2 + (positions[v + 2] - c[2]) ** 2);
+  }
+  return { positions: out, ranges, boxes, sphere: [...c, Math.sqrt(r2)] };
+}
+
+test('displayBuffers: the faces grouped by patch in indexed chunks, as JavaScript would group them', () => {
+  // A real model (patches and dropped faces) and a cap of several chunks (207,600 faces).
+  for (const [name, bytes] of [['wing-body', model('wingbody_79868_flow360.stl')], ['cap', capStl(260, 400, 1, 1000)]]) {
+    const mesh = Mesh.fromStl(bytes);
+    const seg = mesh.segment(paper);
+    try {
+      for (const [label, owner] of [['segmented', seg], ['whole', mesh]]) {
+        const what = `${name} ${label}`;
+        const fractions = [];
+        const got = owner.displayBuffers((stage, f) => { assert.equal(stage, 'display'); fractions.push(f); });
+        const want = displayInJs(mesh, owner === seg ? seg : null);
+        assert.ok(got.positions instanceof Float32Array && got.indices instanceof Uint16Array && got.chunks instanceof Uint32Array);
+        assert.deepEqual(got.ranges, want.ranges, `${what}: ranges`);
+        assert.deepEqual(got.boxes, want.boxes, `${what}: boxes`);
+        assert.deepEqual(got.sphere, want.sphere, `${what}: sphere`);
+        // The chunks follow each other, within their limits.
+        const vertices = got.positions.length / 3;
+        let [face, vertex] = [0, 0];
+        for (let c = 0; c < got.chunks.length; c += 4) {
+          const [first, faces, firstVertex, count] = got.chunks.subarray(c, c + 4);
+          assert.deepEqual([first, firstVertex], [face, vertex], `${what}: chunk ${c / 4}`);
+          assert.ok(faces >= 1 && faces <= 2 ** 17 && count <= 2 ** 16);
+          // Each triangle's corners through its chunk's indices: the JavaScript expansion,
+          // and each of its vertices is of its triangle's group.
+          for (let t = first; t < first + faces; t++) {
+            for (let k = 0; k < 3; k++) {
+              const local = got.indices[3 * t + k];
+              assert.ok(local < count);
+              for (let i = 0; i < 3; i++) {
+                if (got.positions[3 * (firstVertex + local) + i] !== want.positions[9 * t + 3 * k + i]) {
+                  assert.fail(`${what}: triangle ${t} corner ${k}`);
+                }
+              }
+            }
+          }
+          face += faces;
+          vertex += count;
+        }
+        assert.deepEqual([face, vertex], [want.positions.length / 9, vertices]);
+        if (name === 'cap') assert.ok(got.chunks.length / 4 > 1, 'the cap takes several chunks');
+        // The runs give each vertex its triangle's group.
+        const groupOf = new Int32Array(vertices).fill(-1);
+        for (let r = 0; r < got.runs.length; r += 2) {
+          groupOf.fill(got.runs[r + 1], got.runs[r], r + 2 < got.runs.length ? got.runs[r + 2] : vertices);
+        }
+        for (let g = 0; g < got.ranges.length / 2; g++) {
+          for (let t = got.ranges[2 * g]; t < got.ranges[2 * g] + got.ranges[2 * g + 1]; t++) {
+            const c = 4 * (got.chunks.findLastIndex((x, i) => i % 4 === 0 && x <= t) / 4);
+            for (let k = 0; k < 3; k++) {
+              if (groupOf[got.chunks[c + 2] + got.indices[3 * t + k]] !== g) assert.fail(`${what}: vertex group of triangle ${t}`);
+            }
+          }
+        }
+        assert.equal(fractions[0], 0);
+        assert.equal(fractions.at(-1), 1);
+        assert.ok(fractions.every((f, i) => i === 0 || f > fractions[i - 1]), 'progress grows');
+      }
+      // The last group holds exactly the dropped faces (the wing-body has some).
+      const dropped = seg.patchOf().filter((p) => p < 0).length;
+      assert.equal(seg.displayBuffers().ranges.at(-1), dropped);
+      if (name === 'wing-body') assert.ok(seg.patchCount > 1 && dropped > 0);
+    } finally {
+      seg.free();
+      mesh.free();
+    }
   }
 });
 

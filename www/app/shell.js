@@ -74,6 +74,7 @@ const STAGE_NAMES = {
   regions: 'Growing regions',
   planarise: 'Splitting regions into near-planar patches',
   patches: 'Measuring the patches',
+  display: 'Preparing the display',
 };
 
 class Shell {

@@ -1,8 +1,8 @@
 // The 3D view: the only module that imports three.js.
 // Tools draw their own results as layers (setLayer): line sets and unlit coloured surfaces
 // in the file's frame, turned with the model; they never touch three.js themselves.
-// The mesh is one non-indexed triangle soup, triangles grouped by patch (see worker.js),
-// coloured per vertex, drawn as chunks of CHUNK_TRIANGLES that share its arrays. Visibility
+// The mesh comes as indexed chunks (at most 2^17 triangles each, made by the engine), its
+// triangles grouped by patch (see worker.js), coloured per vertex. Visibility
 // and highlighting only rewrite the chunks' draw groups (a handful of ranges), so they stay
 // instant at millions of triangles. Nothing here walks the triangles: the worker sends the
 // buffers, colours, per-patch boxes and the bounding sphere, and answers picks
@@ -14,15 +14,6 @@ import { patchColor } from './palette.js';
 export { DROPPED_COLOR, PATCH_COLORS, patchColor } from './palette.js';
 
 const BACKGROUND = 0xe9edf1;
-/**
- * Triangles per draw chunk. WebGL copies a chunk's buffers in one call on the first frame
- * that draws it, and the page cannot go on until the GPU process has taken them, so chunks
- * join the scene one at a time, each once the GPU has finished all earlier work (a fence):
- * 2^17 triangles are 6 MB of attributes. (Handing over four million triangles at once held
- * the page for about 280 ms in headless SwiftShader; chunks of 2^18 without the fence, for
- * 60 to 180 ms each, and up to 300 ms when the GPU was still drawing.)
- */
-const CHUNK_TRIANGLES = 1 << 17;
 // Material slots of the draw groups. While a patch is selected the others are dimmed, so the
 // selection stands out in its own, unchanged colour.
 const BASE = 0;
@@ -147,15 +138,18 @@ export class Viewer extends EventTarget {
   }
 
   /**
-   * Shows a mesh: display = { positions, colors, ranges, boxes, sphere, borders,
-   * borderPatches } from the worker (file frame; see worker.js). The arrays are used, not
-   * copied, and the positions and colours are let go once on the GPU. `keepView` keeps the
+   * Shows a mesh: display = { positions, indices, chunks, colors, ranges, boxes, sphere,
+   * borders, borderPatches } from the worker (file frame; see worker.js). The arrays are used,
+   * not copied, and the positions, indices and colours are let go once on the GPU. WebGL
+   * copies a chunk's buffers in one call on the first frame that draws it, and the page
+   * cannot go on until the GPU process has taken them, so chunks join the scene one at a
+   * time, each once the GPU has finished all earlier work (a fence). `keepView` keeps the
    * camera (re-segmenting the same model); otherwise the view is fitted. Emits 'modellost'
    * when a lost WebGL context comes back: the caller then sets the model again.
    */
   setModel(display, { keepView = false } = {}) {
     this.#disposeModel();
-    const { positions, colors, ranges, boxes, sphere, borders, borderPatches } = display;
+    const { positions, indices, chunks, colors, ranges, boxes, sphere, borders, borderPatches } = display;
     this.#ranges = ranges;
     this.#boxes = boxes;
     this.#borderPatches = borderPatches;
@@ -164,14 +158,17 @@ export class Viewer extends EventTarget {
     this.#sphere = new THREE.Sphere(new THREE.Vector3(sphere[0], sphere[1], sphere[2]), sphere[3]);
     this.#sceneRadius = Math.max(sphere[3], 1e-9);
     this.#surface = new THREE.Group();
-    const triangles = positions.length / 9;
-    for (let start = 0; start < triangles; start += CHUNK_TRIANGLES) {
-      const end = Math.min(triangles, start + CHUNK_TRIANGLES);
+    for (let c = 0; c < chunks.length; c += 4) {
+      const [start, count, firstVertex, vertices] = chunks.subarray(c, c + 4);
+      const end = start + count;
+      const [v0, v1] = [3 * firstVertex, 3 * (firstVertex + vertices)];
       // Views into the worker's arrays, not copies, let go once WebGL has them: nothing here
       // reads them again (boxes, sphere and picks come from the worker).
       const geometry = new THREE.BufferGeometry();
-      const position = new THREE.BufferAttribute(positions.subarray(9 * start, 9 * end), 3);
-      const color = new THREE.BufferAttribute(colors.subarray(9 * start, 9 * end), 3, true);
+      const index = new THREE.BufferAttribute(indices.subarray(3 * start, 3 * end), 1);
+      const position = new THREE.BufferAttribute(positions.subarray(v0, v1), 3);
+      const color = new THREE.BufferAttribute(colors.subarray(v0, v1), 3, true);
+      geometry.setIndex(index.onUpload(releaseArray));
       geometry.setAttribute('position', position.onUpload(releaseArray));
       geometry.setAttribute('color', color.onUpload(releaseArray));
       geometry.boundingSphere = this.#sphere; // the whole model's: culling stays conservative

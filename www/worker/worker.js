@@ -76,101 +76,46 @@ const ctx = {
   memoryBytes: () => wasmMemoryBytes(),
   /**
    * Draw buffers for the current mesh, all made here so that the page only hands them to
-   * WebGL: triangles grouped by patch so that each patch is one contiguous range.
-   *   positions  Float32Array, 9 per triangle (expanded through the indices)
-   *   colors     Uint8Array, 9 per triangle: the patch colour at each corner (palette.js)
+   * WebGL: triangles grouped by patch so that each patch is one contiguous range, in indexed
+   * chunks with vertices of their own (see the core's `DisplayBuffers`).
+   *   positions  Float32Array, xyz per vertex (a vertex on a patch border is copied for each
+   *              patch, so that its colour is the patch's)
+   *   indices    Uint16Array, 3 per triangle, into its chunk's vertices
+   *   chunks     Uint32Array [firstTriangle, triangles, firstVertex, vertices] per chunk
+   *   colors     Uint8Array, 3 per vertex: its patch colour (palette.js)
    *   ranges     Uint32Array [start0, count0, start1, count1, …] in triangles, one pair per
    *              patch id and a last pair for the dropped triangles
    *   boxes      Float32Array [minX, minY, minZ, maxX, maxY, maxZ] per range (empty: +∞, −∞)
    *   sphere     [cx, cy, cz, radius]: centre of the bounding box and the largest distance
    *              of a vertex from it (as three.js's computeBoundingSphere finds it)
    *   borders, borderPatches   patch borders as segments and the patches beside each
-   * Without a segmentation everything is "dropped". Every array is transferred.
+   * Without a segmentation everything is "dropped". The engine groups and writes the
+   * triangles (`displayBuffers`); the colours are filled here. Every array is transferred.
    */
   display(progress) {
     const seg = this.segmentation;
-    const { positions, indices } = this.welded();
-    const triangleCount = indices.length / 3;
-    const patchCount = seg ? seg.patchCount : 0;
-    const patchOf = seg ? seg.patchOf() : null;
-    const bucketOf = (t) => {
-      const p = patchOf ? patchOf[t] : -1;
-      return p < 0 ? patchCount : p;
-    };
-    // Counting sort: bucket sizes, then running offsets.
-    const ranges = new Uint32Array(2 * (patchCount + 1));
-    for (let t = 0; t < triangleCount; t++) ranges[2 * bucketOf(t) + 1]++;
-    const cursor = new Uint32Array(patchCount + 1);
-    for (let b = 0, start = 0; b <= patchCount; b++) {
-      ranges[2 * b] = start;
-      cursor[b] = start;
-      start += ranges[2 * b + 1];
-    }
-    const out = new Float32Array(triangleCount * 9);
-    const boxes = new Float32Array(6 * (patchCount + 1));
-    for (let b = 0; b <= patchCount; b++) boxes.set([Infinity, Infinity, Infinity, -Infinity, -Infinity, -Infinity], 6 * b);
-    const step = Math.max(1, Math.floor(triangleCount / 50));
-    for (let t = 0; t < triangleCount; t++) {
-      const b = bucketOf(t);
-      let o = 9 * cursor[b]++;
-      const box = 6 * b;
-      for (let k = 0; k < 3; k++) {
-        const v = 3 * indices[3 * t + k];
-        for (let i = 0; i < 3; i++) {
-          const x = positions[v + i];
-          out[o++] = x;
-          if (x < boxes[box + i]) boxes[box + i] = x;
-          if (x > boxes[box + 3 + i]) boxes[box + 3 + i] = x;
-        }
-      }
-      if (t % step === 0) progress('Preparing the display', t / triangleCount);
-    }
-    progress('Preparing the display', 1);
-    const colors = new Uint8Array(triangleCount * 9);
-    for (let b = 0; b <= patchCount; b++) {
-      const start = 9 * ranges[2 * b];
-      const end = start + 9 * ranges[2 * b + 1];
+    const { positions, indices, chunks, runs, ranges, boxes, sphere } = (seg ?? this.mesh).displayBuffers(progress);
+    const vertexCount = positions.length / 3;
+    const patchCount = ranges.length / 2 - 1;
+    const colors = new Uint8Array(3 * vertexCount);
+    for (let r = 0; r < runs.length; r += 2) {
+      const start = 3 * runs[r];
+      const end = 3 * (r + 2 < runs.length ? runs[r + 2] : vertexCount);
       if (end === start) continue;
-      // One corner's colour, then doubling copies: memcpy speed on millions of corners.
-      colors.set(patchColorBytes(b === patchCount ? -1 : b), start);
+      // One vertex's colour, then doubling copies: memcpy speed on millions of vertices.
+      colors.set(patchColorBytes(runs[r + 1] === patchCount ? -1 : runs[r + 1]), start);
       for (let filled = 3; start + filled < end; filled *= 2) {
         colors.copyWithin(start + filled, start, Math.min(start + filled, end - filled));
       }
     }
-    const sphere = boundingSphere(positions, boxes);
     const borders = seg ? seg.borderSegments() : new Float32Array(0);
     // The two patch ids beside each border segment, so borders of hidden patches hide too.
     const borderPatches = seg ? seg.borderPatches() : new Int32Array(0);
-    const display = { positions: out, colors, ranges, boxes, sphere, borders, borderPatches };
-    return [display, [out.buffer, colors.buffer, ranges.buffer, boxes.buffer, borders.buffer, borderPatches.buffer]];
+    const display = { positions, indices, chunks, colors, ranges, boxes, sphere, borders, borderPatches };
+    return [display, [positions.buffer, indices.buffer, chunks.buffer, colors.buffer, ranges.buffer, boxes.buffer,
+      borders.buffer, borderPatches.buffer]];
   },
 };
-
-/**
- * [cx, cy, cz, r]: the bounding box's centre and the largest distance of a vertex from it.
- * The box is the union of the per-range `boxes` the display pass measured (every welded
- * vertex is a corner of some triangle), so the vertices are read once more, not twice.
- */
-function boundingSphere(positions, boxes) {
-  const min = [Infinity, Infinity, Infinity];
-  const max = [-Infinity, -Infinity, -Infinity];
-  for (let b = 0; b < boxes.length; b += 6) {
-    for (let i = 0; i < 3; i++) {
-      if (boxes[b + i] < min[i]) min[i] = boxes[b + i];
-      if (boxes[b + 3 + i] > max[i]) max[i] = boxes[b + 3 + i];
-    }
-  }
-  if (positions.length === 0) return [0, 0, 0, 0];
-  const c = [0, 1, 2].map((i) => (min[i] + max[i]) / 2);
-  let r2 = 0;
-  for (let v = 0; v < positions.length; v += 3) {
-    const dx = positions[v] - c[0];
-    const dy = positions[v + 1] - c[1];
-    const dz = positions[v + 2] - c[2];
-    r2 = Math.max(r2, dx * dx + dy * dy + dz * dz);
-  }
-  return [...c, Math.sqrt(r2)];
-}
 
 /**
  * Picking: the first triangle along the ray (model coordinates) on a patch not in `hidden`
