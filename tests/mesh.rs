@@ -8,7 +8,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use common::{binary_stl, check_adjacency, import, Tri};
 use skinpath::mesh::{
     binary_layout, import_stl, read_stl, write_stl, BinaryStl, FaceGeometry, StlError, StlFormat,
-    STL_HEAD_BYTES, STL_PREAMBLE_BYTES, STL_RECORD_BYTES,
+    StlStream, STL_HEAD_BYTES, STL_PREAMBLE_BYTES, STL_RECORD_BYTES,
 };
 
 fn error(bytes: &[u8]) -> String {
@@ -468,6 +468,68 @@ fn a_binary_file_is_told_from_its_head_and_read_in_pieces_as_a_whole() {
     // The eleven binary fixtures (the cube, the solid header, trailing bytes, the flipped,
     // open, non-manifold and NaN ones...) and the two whole generated files.
     assert_eq!(streamed, 13);
+}
+
+#[test]
+fn a_file_read_as_it_comes_in_pieces_of_any_size_is_read_stl_of_it() {
+    // The page streams a file from disk into the engine (StlStream): whatever the pieces,
+    // binary, ASCII or broken, the result (mesh, info or error) is `read_stl`'s of the whole.
+    let mut headed = binary_stl(&common::plane(1.0, 1.0, 2));
+    headed[..11].copy_from_slice(b"solid x y z");
+    headed.extend_from_slice(b"\nsome trailing text\n");
+    let big = binary_stl(&common::plane(2.0, 1.0, 60));
+    let mut files: Vec<(&str, &[u8])> = common::fixtures().to_vec();
+    files.extend([
+        ("headed plane", headed.as_slice()),
+        ("plane of 7200", &big),
+        ("short", &big[..83]),
+        ("cut plane", &big[..big.len() - 7]),
+        ("empty", &[]),
+    ]);
+    for (name, bytes) in files {
+        let whole = read_stl(bytes);
+        // Pieces of 1 byte, a record less one, a record and one, the head and one, and all.
+        for piece in [1, 49, 51, STL_HEAD_BYTES + 1, bytes.len().max(1)] {
+            let mut stream = StlStream::new(bytes.len());
+            let mut parse = Vec::new();
+            for chunk in bytes.chunks(piece) {
+                stream
+                    .push(chunk, &mut |_, f| parse.push(f))
+                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+            }
+            assert_eq!(stream.received(), bytes.len());
+            let read = stream.finish(&mut |_, f| parse.push(f));
+            assert!(
+                parse.windows(2).all(|w| w[0] <= w[1]),
+                "{name}: progress grows"
+            );
+            match (&read, &whole) {
+                (Ok(read), Ok(whole)) => {
+                    assert_eq!(read.info, whole.info, "{name}, {piece} a piece");
+                    assert_eq!(read.mesh.positions(), whole.mesh.positions(), "{name}");
+                    assert_eq!(read.mesh.triangles(), whole.mesh.triangles(), "{name}");
+                }
+                (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "{name}"),
+                _ => panic!("{name}, {piece} a piece: streamed {read:?}, whole {whole:?}"),
+            }
+        }
+    }
+    // A file whose bytes change while they are read: more than its length are refused and
+    // not read, fewer fail at the end; both say so.
+    let mut stream = StlStream::new(big.len() - 1);
+    let mut ignore = |_: &str, _: f64| {};
+    stream.push(&big[..1000], &mut ignore).unwrap();
+    let more = stream.push(&big[1000..], &mut ignore).unwrap_err();
+    assert!(matches!(more, StlError::LengthMismatch { received, .. } if received == big.len()));
+    assert_eq!(stream.received(), 1000);
+    let fewer = stream.finish(&mut ignore).unwrap_err();
+    assert_eq!(
+        fewer.to_string(),
+        format!(
+            "the file's bytes changed while they were read: 1000 bytes came for a file of {} (was it changed or replaced meanwhile?)",
+            big.len() - 1
+        )
+    );
 }
 
 #[test]

@@ -23,7 +23,7 @@ pub use orientation::{orient_consistently, OrientationReport};
 pub use spatial_index::{ClosestPoint, MeshIndex, RayHit};
 pub use stl::{
     binary_layout, read_stl, read_stl_with_progress, write_stl, BinaryStl, StlError, StlFormat,
-    StlImport, StlInfo, STL_HEAD_BYTES, STL_PREAMBLE_BYTES, STL_RECORD_BYTES,
+    StlImport, StlInfo, StlStream, STL_HEAD_BYTES, STL_PREAMBLE_BYTES, STL_RECORD_BYTES,
 };
 pub use tri_mesh::{MeshError, TriMesh};
 pub use union_find::{find_root, flatten, union_smallest};

@@ -62,6 +62,20 @@ pub enum StlError {
         /// File size in bytes.
         len: usize,
     },
+    /// A file read as it comes that must be held whole, with no memory left for it.
+    #[error("the file is {len} bytes and there is not enough memory left to hold it")]
+    NoMemory {
+        /// File size in bytes.
+        len: usize,
+    },
+    /// A file whose bytes, read as they came, were more or fewer than its length.
+    #[error("the file's bytes changed while they were read: {received} bytes came for a file of {len} (was it changed or replaced meanwhile?)")]
+    LengthMismatch {
+        /// The file's length when reading began.
+        len: usize,
+        /// Bytes that came.
+        received: usize,
+    },
     /// A binary file cut off before its last triangle.
     #[error("truncated binary STL: the header says {declared} triangles but only {present} are present (the file has {len} bytes, {needed} are needed)")]
     Truncated {
@@ -370,6 +384,146 @@ impl BinaryStl {
                 trailing_bytes,
             },
         )
+    }
+}
+
+/// An STL file of a known length read from its bytes as they come, in pieces of any size
+/// (a file read from disk as a stream, or copied from elsewhere through a small buffer): a
+/// binary file's records are parsed as they arrive and never held whole; any other file (ASCII,
+/// or binary that only its whole tells apart, see [`binary_layout`]) is gathered and read by
+/// [`read_stl`] at the end. The result is [`read_stl`]'s for the same bytes.
+#[derive(Debug)]
+pub struct StlStream {
+    len: usize,
+    received: usize,
+    state: StreamState,
+}
+
+#[derive(Debug)]
+enum StreamState {
+    /// The file's first `min(len, STL_HEAD_BYTES)` bytes, being gathered.
+    Head(Vec<u8>),
+    /// A binary file: its records, the bytes of a record begun, where the records end.
+    Binary {
+        reader: BinaryStl,
+        partial: Vec<u8>,
+        data_end: usize,
+    },
+    /// Any other file, gathered whole.
+    Whole(Vec<u8>),
+}
+
+impl StlStream {
+    /// A reader of a file of `len` bytes.
+    pub fn new(len: usize) -> Self {
+        StlStream {
+            len,
+            received: 0,
+            state: StreamState::Head(Vec::with_capacity(len.min(STL_HEAD_BYTES))),
+        }
+    }
+
+    /// Bytes received so far.
+    pub fn received(&self) -> usize {
+        self.received
+    }
+
+    /// Reads the next bytes of the file, reporting `("parse", fraction)` now and then. More
+    /// bytes than the file's length are refused (and not read).
+    pub fn push(
+        &mut self,
+        bytes: &[u8],
+        progress: &mut dyn FnMut(&str, f64),
+    ) -> Result<(), StlError> {
+        if bytes.len() > self.len - self.received {
+            return Err(StlError::LengthMismatch {
+                len: self.len,
+                received: self.received.saturating_add(bytes.len()),
+            });
+        }
+        let at = self.received;
+        self.received += bytes.len();
+        match &mut self.state {
+            StreamState::Head(head) => {
+                let wanted = self.len.min(STL_HEAD_BYTES);
+                let take = (wanted - head.len()).min(bytes.len());
+                head.extend_from_slice(&bytes[..take]);
+                if head.len() < wanted {
+                    return Ok(());
+                }
+                let head = std::mem::take(head);
+                let rest = &bytes[take..];
+                match binary_layout(&head, self.len) {
+                    Some(count) => {
+                        self.state = StreamState::Binary {
+                            reader: BinaryStl::new(count),
+                            partial: Vec::with_capacity(STL_RECORD_BYTES),
+                            data_end: STL_PREAMBLE_BYTES + count * STL_RECORD_BYTES,
+                        };
+                        // The head's records, then the rest, as if they came now.
+                        self.feed_binary(STL_PREAMBLE_BYTES, &head[STL_PREAMBLE_BYTES..], progress);
+                        self.feed_binary(head.len(), rest, progress);
+                    }
+                    None => {
+                        let mut whole = head;
+                        if whole.try_reserve_exact(self.len - whole.len()).is_err() {
+                            return Err(StlError::NoMemory { len: self.len });
+                        }
+                        whole.extend_from_slice(rest);
+                        self.state = StreamState::Whole(whole);
+                    }
+                }
+            }
+            StreamState::Binary { .. } => self.feed_binary(at, bytes, progress),
+            StreamState::Whole(whole) => whole.extend_from_slice(bytes),
+        }
+        Ok(())
+    }
+
+    /// Feeds a binary file's bytes at offset `at` on: whole records to the reader, a record
+    /// begun kept until it is whole, the bytes after the last record ignored.
+    fn feed_binary(&mut self, at: usize, bytes: &[u8], progress: &mut dyn FnMut(&str, f64)) {
+        let StreamState::Binary {
+            reader,
+            partial,
+            data_end,
+        } = &mut self.state
+        else {
+            return;
+        };
+        let bytes = &bytes[..bytes.len().min(data_end.saturating_sub(at))];
+        let mut rest = bytes;
+        if !partial.is_empty() {
+            let take = (STL_RECORD_BYTES - partial.len()).min(rest.len());
+            partial.extend_from_slice(&rest[..take]);
+            rest = &rest[take..];
+            if partial.len() < STL_RECORD_BYTES {
+                return;
+            }
+            reader.feed(partial, progress);
+            partial.clear();
+        }
+        let whole = rest.len() - rest.len() % STL_RECORD_BYTES;
+        reader.feed(&rest[..whole], progress);
+        partial.extend_from_slice(&rest[whole..]);
+    }
+
+    /// The file read, once all its bytes came; a file that ended early is refused.
+    pub fn finish(self, progress: &mut dyn FnMut(&str, f64)) -> Result<StlImport, StlError> {
+        if self.received != self.len {
+            return Err(StlError::LengthMismatch {
+                len: self.len,
+                received: self.received,
+            });
+        }
+        match self.state {
+            StreamState::Head(head) | StreamState::Whole(head) => {
+                read_stl_with_progress(&head, progress)
+            }
+            StreamState::Binary {
+                reader, data_end, ..
+            } => reader.finish(self.len - data_end, progress),
+        }
     }
 }
 

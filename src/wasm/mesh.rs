@@ -1,57 +1,132 @@
 //! `Mesh`: an imported STL held on the Rust side (JavaScript must call `free()`).
 
 use super::index::{hit_to_js, index_of, read_ray, SharedIndex};
-use super::params::{byte_array, copy_all, copy_bytes, read_callback, read_index_list};
+use super::params::{byte_array, copy_bytes, integer, read_callback, read_index_list};
 use super::{progress_fn, DistanceField, Segmentation, SprayPlan};
 use crate::math::Real;
 use crate::mesh::{
-    binary_layout, prepare_mesh, read_stl_with_progress, BinaryStl, FaceGroups, ImportedMesh,
-    StlImport, STL_HEAD_BYTES, STL_PREAMBLE_BYTES, STL_RECORD_BYTES,
+    prepare_mesh, read_stl_with_progress, FaceGroups, ImportedMesh, StlImport, StlStream,
+    STL_RECORD_BYTES,
 };
 use js_sys::Uint8Array;
 use std::rc::Rc;
 use wasm_bindgen::prelude::*;
 
-/// Binary STL records copied from JavaScript at a time (800 KiB: the copies stay in cache).
-const STREAM_RECORDS: usize = 1 << 14;
+/// Bytes copied from JavaScript at a time (800 KiB: the copies stay in cache).
+const STREAM_BYTES: usize = 16_384 * STL_RECORD_BYTES;
 
-/// Reads STL bytes held by JavaScript. A binary file is streamed through a small buffer,
-/// record by record, never copied whole into the engine's memory: that memory only grows,
-/// so a copy of the file raised every later peak by the file's size, and copying it meant
-/// writing it twice (zeroed, then filled). Any other file (ASCII, or one only the whole of
-/// it tells apart) is copied whole and read as before.
-fn read_stl_from_js(
+/// Feeds the bytes of `array` to `stream`, copied through a small buffer: a binary file's
+/// records are parsed as they come and never held whole in the engine's memory, which only
+/// grows (a copy of the file raised every later peak by its size, and copying it meant writing
+/// it twice: zeroed, then filled). Any other file (ASCII, or one only the whole of it tells
+/// apart) is gathered whole by the stream.
+fn push_from_js(
+    stream: &mut StlStream,
     array: &Uint8Array,
     progress: &mut dyn FnMut(&str, f64),
-) -> Result<StlImport, JsError> {
+) -> Result<(), JsError> {
     let len = array.length() as usize;
-    let mut head = vec![0; len.min(STL_HEAD_BYTES)];
-    copy_bytes(array, 0, &mut head);
-    let Some(count) = binary_layout(&head, len) else {
-        let bytes = copy_all(array)?;
-        return Ok(read_stl_with_progress(&bytes, progress)?);
-    };
-    let data_end = STL_PREAMBLE_BYTES + count * STL_RECORD_BYTES;
-    let mut reader = BinaryStl::new(count);
-    let mut buffer = vec![0; STREAM_RECORDS * STL_RECORD_BYTES];
-    let mut at = STL_PREAMBLE_BYTES;
-    // Each pass reads at least one record (`data_end − at` is a positive multiple of a
-    // record), so the loop ends.
-    while at < data_end {
+    let mut buffer = vec![0; STREAM_BYTES.min(len)];
+    let mut at = 0;
+    // Each pass reads at least one byte, so the loop ends.
+    while at < len {
         // The progress callback runs between the copies and could detach or shrink the
-        // file's buffer (its view then reports fewer bytes): refused, never read past.
+        // buffer (its view then reports fewer bytes): refused, never read past.
         if array.length() as usize != len {
             return Err(JsError::new(
                 "the STL file's bytes changed while they were read: its buffer was detached or \
                  resized (by the progress callback?)",
             ));
         }
-        let n = (data_end - at).min(buffer.len());
+        let n = (len - at).min(buffer.len());
         copy_bytes(array, at as u32, &mut buffer[..n]);
-        reader.feed(&buffer[..n], progress);
+        stream.push(&buffer[..n], progress)?;
         at += n;
     }
-    Ok(reader.finish(len - data_end, progress)?)
+    Ok(())
+}
+
+/// Reads STL bytes held by JavaScript (see [`push_from_js`]).
+fn read_stl_from_js(
+    array: &Uint8Array,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<StlImport, JsError> {
+    let mut stream = StlStream::new(array.length() as usize);
+    push_from_js(&mut stream, array, progress)?;
+    Ok(stream.finish(progress)?)
+}
+
+/// An STL file read piece by piece as it comes (a `File`'s stream in a worker), so that it
+/// is never held whole: `new StlReader(file.size, onProgress)`, `push(bytes)` for each piece
+/// in order, then `finish()` gives the `Mesh` (the reader is then used up). A binary file is
+/// parsed as it comes; any other is gathered and read at the end. The result is
+/// `Mesh.fromStl`'s for the same bytes.
+#[wasm_bindgen]
+pub struct StlReader {
+    /// `None` once finished or failed.
+    stream: Option<StlStream>,
+    progress: Option<js_sys::Function>,
+}
+
+#[wasm_bindgen]
+impl StlReader {
+    /// A reader of a file of `byteLength` bytes (a whole number up to 2^31 − 1);
+    /// `onProgress(stage, fraction)` is optional.
+    #[wasm_bindgen(constructor)]
+    pub fn new(
+        #[wasm_bindgen(js_name = byteLength, unchecked_param_type = "number")] byte_length: JsValue,
+        #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
+        on_progress: Option<JsValue>,
+    ) -> Result<StlReader, JsError> {
+        let len = integer(&byte_length, "byteLength", 0, i64::from(i32::MAX))?;
+        Ok(StlReader {
+            stream: Some(StlStream::new(len as usize)),
+            progress: read_callback(on_progress, "onProgress")?,
+        })
+    }
+
+    /// Bytes pushed so far.
+    #[wasm_bindgen(getter)]
+    pub fn received(&self) -> f64 {
+        self.stream.as_ref().map_or(0.0, |s| s.received() as f64)
+    }
+
+    /// Reads the next piece of the file (a `Uint8Array` or an `ArrayBuffer`). Throws an
+    /// `Error` when the pieces hold more bytes than the file's length (it changed while being
+    /// read); after an error the reader is used up.
+    pub fn push(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array | ArrayBuffer")] bytes: JsValue,
+    ) -> Result<(), JsError> {
+        let array = byte_array(&bytes, "the piece of the file")?;
+        let mut stream = self.stream.take().ok_or_else(used_up)?;
+        let mut progress = progress_fn(self.progress.clone());
+        if let Some(array) = array {
+            push_from_js(&mut stream, &array, &mut progress)?;
+        }
+        self.stream = Some(stream);
+        Ok(())
+    }
+
+    /// The mesh read from every byte pushed, prepared as `Mesh.fromStl` prepares it. Throws
+    /// an `Error` naming what is wrong with the file, or when fewer bytes came than its
+    /// length; the reader is used up either way.
+    pub fn finish(&mut self) -> Result<Mesh, JsError> {
+        let stream = self.stream.take().ok_or_else(used_up)?;
+        let mut progress = progress_fn(self.progress.take());
+        let import = stream.finish(&mut progress)?;
+        let imported = prepare_mesh(import, &mut progress)?;
+        Ok(Mesh {
+            inner: Rc::new(imported),
+            index: SharedIndex::default(),
+        })
+    }
+}
+
+fn used_up() -> JsError {
+    JsError::new(
+        "this StlReader is used up (finish() was called, or a push failed); create a new one",
+    )
 }
 
 /// A welded, consistently wound triangle mesh read from STL.

@@ -522,20 +522,6 @@ pub(crate) fn copy_bytes(array: &Uint8Array, start: u32, into: &mut [u8]) {
     array.subarray(start, end).copy_to(into);
 }
 
-/// The whole of `array` copied into wasm memory, or a message when memory runs short.
-pub(crate) fn copy_all(array: &Uint8Array) -> Result<Vec<u8>, ArgError> {
-    let len = array.length();
-    let mut bytes = Vec::new();
-    if bytes.try_reserve_exact(len as usize).is_err() {
-        return Err(ArgError(format!(
-            "the file is {len} bytes and there is not enough memory left to copy it"
-        )));
-    }
-    bytes.resize(len as usize, 0);
-    array.copy_to(&mut bytes);
-    Ok(bytes)
-}
-
 /// An optional `(stage, fraction) => void` callback: a function, or `undefined`/`null`.
 pub(crate) fn read_callback(
     value: Option<JsValue>,

@@ -10,7 +10,7 @@ const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const pkg = join(root, 'dist', 'pkg');
 const wasm = await import(join(pkg, 'skinpath.js'));
 wasm.initSync({ module: readFileSync(join(pkg, 'skinpath_bg.wasm')) });
-const { Mesh, deriveThreshold, wasmMemoryBytes } = wasm;
+const { Mesh, StlReader, deriveThreshold, wasmMemoryBytes } = wasm;
 const { capStl } = await import(join(root, 'www', 'worker', 'warm-up.js'));
 const fixture = (name) => readFileSync(join(root, 'tests', 'fixtures', name));
 const model = (name) => readFileSync(join(root, '..', 'shared', 'models', name));
@@ -29,7 +29,9 @@ test('the generated TypeScript declarations name the whole API', () => {
     'export interface RayHit {',
     'export function wasmMemoryBytes(): number', 'free(): void', 'export interface MeshReport {',
     'export interface Patch {', 'displayBuffers(onProgress?: ProgressCallback): DisplayBuffers',
-    'export interface DisplayBuffers {', 'export type ProgressCallback = (stage: string, fraction: number) => void;']) {
+    'export interface DisplayBuffers {', 'constructor(byteLength: number, onProgress?: ProgressCallback);',
+    'push(bytes: Uint8Array | ArrayBuffer): void', 'finish(): Mesh', 'readonly received: number',
+    'export type ProgressCallback = (stage: string, fraction: number) => void;']) {
     assert.ok(dts.includes(name), `skinpath.d.ts lacks "${name}"`);
   }
 });
@@ -230,6 +232,57 @@ test('displayBuffers: the faces grouped by patch in indexed chunks, as JavaScrip
       mesh.free();
     }
   }
+});
+
+test('StlReader: a file pushed piece by piece reads as fromStl reads it whole', () => {
+  const same = (a, b, what) => {
+    assert.deepEqual(a.report(), b.report(), what);
+    assert.deepEqual(a.positions(), b.positions(), what);
+    assert.deepEqual(a.indices(), b.indices(), what);
+  };
+  // Binary (a real model, and a file whose head reads like text) and ASCII, in pieces of
+  // 1 byte, an odd size, and one piece; pieces given as views into larger buffers and as
+  // ArrayBuffers.
+  const headed = new Uint8Array(capStl(4, 8, 1, 10));
+  headed.set(new TextEncoder().encode('solid but binary'));
+  for (const [name, bytes] of [['wing-body', model('wingbody_79868_flow360.stl')], ['headed', headed],
+    ['ascii', model('bwb_4464_pygeo_ascii.stl')]]) {
+    const whole = Mesh.fromStl(bytes);
+    for (const piece of name === 'wing-body' ? [65_537, bytes.length] : [1, 4097, bytes.length]) {
+      const stages = new Set();
+      const reader = new StlReader(bytes.length, (stage) => stages.add(stage));
+      for (let at = 0; at < bytes.length; at += piece) {
+        const view = bytes.subarray(at, Math.min(at + piece, bytes.length));
+        if ((at / piece) % 2) reader.push(new Uint8Array(view).buffer);
+        else reader.push(view);
+      }
+      assert.equal(reader.received, bytes.length);
+      const mesh = reader.finish();
+      same(mesh, whole, `${name}, ${piece} a piece`);
+      assert.ok(stages.has('parse') && stages.has('adjacency'), [...stages].join());
+      mesh.free();
+      reader.free();
+      assert.throws(() => reader.push(bytes), /StlReader was freed/);
+    }
+    whole.free();
+  }
+  // Too many bytes, too few, and a used-up reader: Errors naming them; the module goes on.
+  const cube = fixture('cube_binary.stl');
+  const reader = new StlReader(cube.length - 1);
+  assert.throws(() => reader.push(cube), /bytes changed while they were read: 684 bytes came for a file of 683/);
+  assert.throws(() => reader.push(cube.subarray(0, 10)), /used up/);
+  const short = new StlReader(cube.length);
+  short.push(cube.subarray(0, 100));
+  assert.throws(() => short.finish(), /100 bytes came for a file of 684/);
+  assert.throws(() => short.finish(), /used up/);
+  for (const bad of [-1, 0.5, NaN, '684', 2 ** 31]) {
+    assert.throws(() => new StlReader(bad), /byteLength must be a whole number from 0 to 2147483647/);
+  }
+  assert.throws(() => new StlReader(684).push([1, 2, 3]), /must be a Uint8Array or an ArrayBuffer/);
+  assert.throws(() => new StlReader(0).finish(), /the file is empty/);
+  const ok = new StlReader(cube.length);
+  ok.push(cube);
+  assert.equal(ok.finish().triangleCount, 12);
 });
 
 test('raycast: the first face along a ray, passing through hidden patches', () => {

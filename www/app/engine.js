@@ -44,13 +44,16 @@ export class Engine {
   }
 
   /**
-   * Parses an STL (the buffer is transferred, so the caller loses it); `tools` holds the
-   * params of tools that work right after parsing ({ segment: params }). Resolves to
+   * Parses an STL: `input` is { file } (a File, which the worker reads as a stream, never
+   * whole) or { buffer } (an ArrayBuffer, transferred, so the caller loses it); `tools` holds
+   * the params of tools that work right after parsing ({ segment: params }). Resolves to
    * { report, triangleCount, vertexCount, memoryBytes, display, tools: { segment: … }, timings }.
    */
-  async open(buffer, name, tools, onProgress, signal) {
+  async open(input, name, tools, onProgress, signal) {
     this.hasMesh = false;
-    const result = await this.request('open', { buffer, name, tools }, { transfer: [buffer], onProgress, signal });
+    const { file, buffer } = input;
+    const result = await this.request('open', { file, buffer, name, tools },
+      { transfer: buffer ? [buffer] : [], onProgress, signal });
     this.hasMesh = true;
     return result;
   }

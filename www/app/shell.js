@@ -323,18 +323,13 @@ class Shell {
   }
 
   async #readSource(source, progress, signal) {
-    if (source.kind === 'file') {
-      try {
-        return await source.file.arrayBuffer();
-      } catch {
-        throw new Error(`"${source.file.name}" can no longer be read (was it moved or deleted?). Open it again.`);
-      }
-    }
+    // A file goes to the worker as it is: the engine reads it as a stream, never whole.
+    if (source.kind === 'file') return { file: source.file };
     const response = await fetch(source.url, { signal });
     if (!response.ok) throw new Error(`The sample ${source.url} could not be loaded (HTTP ${response.status}).`);
     // Content-Length is only a hint for the bar: a compressing server sends fewer bytes.
     const total = Number(response.headers.get('Content-Length')) || 0;
-    if (!total || !response.body) return response.arrayBuffer();
+    if (!total || !response.body) return { buffer: await response.arrayBuffer() };
     const chunks = [];
     let received = 0;
     const reader = response.body.getReader();
@@ -345,7 +340,7 @@ class Shell {
       received += value.length;
       progress('Downloading the sample', Math.min(received / total, 1));
     }
-    return new Blob(chunks).arrayBuffer();
+    return { buffer: await new Blob(chunks).arrayBuffer() };
   }
 
   /** Params of the tools that work right after parsing ({ segment: … }). */
@@ -383,9 +378,9 @@ class Shell {
     return this.enqueue(`Opening ${name}`, async (progress, checkpoint) => {
       stale();
       this.hideAlert();
-      let buffer;
+      let input;
       try {
-        buffer = await this.#readSource(source, progress, signal);
+        input = await this.#readSource(source, progress, signal);
       } catch (error) {
         stale();
         throw error;
@@ -394,7 +389,7 @@ class Shell {
       checkpoint();
       let result;
       try {
-        result = await this.engine.open(buffer, name, this.#openParams(), progress, signal);
+        result = await this.engine.open(input, name, this.#openParams(), progress, signal);
       } catch (error) {
         if (error instanceof CancelledError) throw error;
         stale();
@@ -465,9 +460,9 @@ class Shell {
    */
   async restoreEngine(progress, checkpoint) {
     if (this.engine.hasMesh || !this.state.model) return;
-    const buffer = await this.#readSource(this.state.model.source, progress);
+    const input = await this.#readSource(this.state.model.source, progress);
     checkpoint();
-    const result = await this.engine.open(buffer, this.state.model.name, this.#openParams(), progress);
+    const result = await this.engine.open(input, this.state.model.name, this.#openParams(), progress);
     const segmentError = result.tools.segment?.segmentError;
     if (segmentError) throw new Error(segmentError);
     return result;

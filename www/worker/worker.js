@@ -8,7 +8,9 @@
 //                  { id, type: 'progress', stage, fraction }           any number, then
 //                  { id, type: 'done', result }                        either this
 //                  { id, type: 'error', message, broken }              or this
-// Requests run one at a time, in order. Typed arrays in results are transferred, not copied.
+// Requests run one at a time, in order (one that waits for a file's bytes holds the ones
+// after it). Typed arrays in results are transferred, not copied. 'open' takes { file } (a
+// File, read as a stream into the engine, never held whole) or { buffer } (an ArrayBuffer).
 // Once a model is open and no request has come for a second, the worker warms the geodesic
 // code up (warm-up.js), once: the Paths tool's first distance then runs optimised code.
 // `broken` means the wasm instance may be corrupt: the page then replaces this worker. Cancel
@@ -22,7 +24,7 @@
 //   onMeshChanged(ctx)                             the mesh was replaced: drop derived state
 // `ctx` is shared: { mesh, segmentation, welded(), display(progress), describe(error, doing) }.
 // Workers ignore the page's import map, hence relative paths.
-import init, { Mesh, wasmMemoryBytes } from '../pkg/skinpath.js';
+import init, { Mesh, StlReader, wasmMemoryBytes } from '../pkg/skinpath.js';
 import * as segmentTool from './segment.js';
 import * as sprayTool from './spray.js';
 import * as drillTool from './drill.js';
@@ -131,12 +133,36 @@ function pick({ origin, direction, hidden = [] }) {
   return [result, []];
 }
 
+/**
+ * A File's bytes streamed into the engine as they are read (a 200 MB file is never held
+ * whole, in the page or here): the Mesh. Errors name the file's problem.
+ */
+async function readFile(file, progress) {
+  const reader = new StlReader(file.size, progress);
+  try {
+    const stream = file.stream().getReader();
+    for (;;) {
+      let piece;
+      try {
+        piece = await stream.read();
+      } catch {
+        throw new Error('the file can no longer be read (was it moved or deleted?); open it again');
+      }
+      if (piece.done) break;
+      reader.push(piece.value);
+    }
+    return reader.finish();
+  } finally {
+    reader.free();
+  }
+}
+
 /** Parses an STL, then lets each tool that sent params work on it (segment: segmenting). */
-function open({ id, buffer, tools = {} }) {
+async function open({ id, file, buffer, tools = {} }) {
   const progress = progressFor(id);
   const t0 = performance.now();
   // Parse first: a bad file leaves the current mesh (and everything derived) untouched.
-  const next = Mesh.fromStl(new Uint8Array(buffer), progress);
+  const next = file ? await readFile(file, progress) : Mesh.fromStl(new Uint8Array(buffer), progress);
   for (const tool of Object.values(TOOLS)) tool.onMeshChanged?.(ctx);
   ctx.mesh?.free();
   ctx.mesh = next;
@@ -211,13 +237,14 @@ function warmUpWhenIdle() {
 
 try {
   await init();
-  self.addEventListener('message', (event) => {
-    const msg = event.data;
+  // Requests run one at a time in order: one that awaits (a file's stream) holds the rest.
+  let queue = Promise.resolve();
+  const handle = async (msg) => {
     clearTimeout(warmUpTimer);
     try {
       const handler = handlerOf(msg.op);
       if (!handler) throw new Error(`Unknown engine request "${msg.op}".`);
-      const [result, transfer] = handler(msg);
+      const [result, transfer] = await handler(msg);
       postMessage({ id: msg.id, type: 'done', result }, transfer);
     } catch (error) {
       const [tool, name] = msg.op.split('.');
@@ -226,6 +253,10 @@ try {
       postMessage({ id: msg.id, type: 'error', message: d.message, broken: d.broken });
     }
     warmUpWhenIdle();
+  };
+  self.addEventListener('message', (event) => {
+    clearTimeout(warmUpTimer);
+    queue = queue.then(() => handle(event.data));
   });
   postMessage({ type: 'ready' });
 } catch (error) {
