@@ -1,4 +1,6 @@
 // `npm run bench`: times the core on generated meshes and prints figures (asserts nothing).
+// `npm run bench -- page` (also part of the whole run): a large file opened in the page in
+// headless Chromium, stage by stage (see page.mjs).
 //
 // For each case, a child process (so every run starts from a fresh WebAssembly memory)
 // generates a binary STL — a closed, fuselage-like surface of revolution at several sizes, and
@@ -515,7 +517,7 @@ if (geodesicArg > 0) {
     if (shape === args[i + 1]) i++;
   }
   console.log('skinpath benchmark (Node %s): generated meshes, binary STL', process.version);
-  const only = args.includes('spray') || args.includes('geodesic');
+  const only = args.includes('spray') || args.includes('geodesic') || args.includes('page');
   const meshCases = chosen.length ? chosen : only ? [] : CASES;
   if (meshCases.length) {
     console.log('shape      triangles   fromStl ms  fromStl µs/tri  segment ms  STLLoader ms  (fromStl+segment)/STLLoader  wasm MiB  bytes/triangle  patches');
@@ -573,4 +575,5 @@ if (geodesicArg > 0) {
     }
     if (args.includes('geodesic')) await (await import('./geodesic.mjs')).main();
   }
+  if ((!chosen.length && !only) || args.includes('page')) await (await import('./page.mjs')).main({ aircraftStl });
 }

@@ -14,6 +14,15 @@ import { patchColor } from './palette.js';
 export { DROPPED_COLOR, PATCH_COLORS, patchColor } from './palette.js';
 
 const BACKGROUND = 0xe9edf1;
+/**
+ * Bytes handed to WebGL in one animation frame at most (at least one chunk). WebGL copies a
+ * chunk's buffers in one call on the first frame that draws it, and the page cannot go on
+ * until the GPU process has taken them: 6 MB a frame kept every task short in headless
+ * SwiftShader (4 million non-indexed triangles at once held the page for about 280 ms), and
+ * with the engine's indexed chunks (about 1.5 MB each) one chunk a frame made the upload
+ * wait on the frame rate (32 frames for 4M triangles).
+ */
+const FRAME_UPLOAD_BYTES = 6 * 1024 * 1024;
 // Material slots of the draw groups. While a patch is selected the others are dimmed, so the
 // selection stands out in its own, unchanged colour.
 const BASE = 0;
@@ -347,8 +356,9 @@ export class Viewer extends EventTarget {
   }
 
   /**
-   * Hands the model to WebGL one chunk per animation frame, each only once the GPU has
-   * finished everything queued before (polling the fence does not wait), so that the copy
+   * Hands the model to WebGL a few chunks per animation frame (FRAME_UPLOAD_BYTES), each
+   * frame's only once the GPU has finished everything queued before (polling the fence does
+   * not wait), so that the copy
    * never queues behind drawing, which a software GPU does slowly. No chunk is drawn until
    * all are in (#applyState), so nothing but the copies keeps the GPU busy meanwhile.
    */
@@ -360,7 +370,13 @@ export class Viewer extends EventTarget {
       next();
       return;
     }
-    this.#surface.add(this.#pendingChunks.shift());
+    // Chunks up to the frame's budget of bytes, at least one.
+    let bytes = 0;
+    do {
+      const chunk = this.#pendingChunks.shift();
+      bytes += uploadBytes(chunk.geometry);
+      this.#surface.add(chunk);
+    } while (this.#pendingChunks.length && bytes + uploadBytes(this.#pendingChunks[0].geometry) <= FRAME_UPLOAD_BYTES);
     if (this.#pendingChunks.length) {
       this.#render(); // uploads the chunk
       this.#fenceGpu();
@@ -609,6 +625,13 @@ class AxisGizmo {
     const canvas = renderer.domElement;
     renderer.setViewport(0, 0, canvas.width / renderer.getPixelRatio(), canvas.height / renderer.getPixelRatio());
   }
+}
+
+/** Bytes of a geometry's index and attributes not yet handed to WebGL. */
+function uploadBytes(geometry) {
+  let bytes = geometry.index?.array?.byteLength ?? 0;
+  for (const attribute of Object.values(geometry.attributes)) bytes += attribute.array?.byteLength ?? 0;
+  return bytes;
 }
 
 /** BufferAttribute.onUpload callback: the GPU has the data, the page needs no copy. */
