@@ -93,7 +93,8 @@ impl FaceGroups {
     }
 
     /// Cuts the face order into draw chunks of at most `max_faces` faces and `max_vertices`
-    /// vertices (at least 3), as [`FaceGroups::write_chunk`] numbers them: each chunk has
+    /// vertices (at least 3, at most 2^16: the indices are 16-bit), as
+    /// [`FaceGroups::write_chunk`] numbers them: each chunk has
     /// vertices of its own, one per mesh vertex and run of one group in the chunk (a vertex
     /// on a patch border is copied for each patch, so vertex colours can be the patch's).
     pub fn draw_chunks(
@@ -102,7 +103,7 @@ impl FaceGroups {
         max_faces: usize,
         max_vertices: usize,
     ) -> Vec<DrawChunk> {
-        let (max_faces, max_vertices) = (max_faces.max(1), max_vertices.max(3));
+        let (max_faces, max_vertices) = (max_faces.max(1), max_vertices.clamp(3, 1 << 16));
         let mut scratch = DrawScratch::new(mesh.vertex_count());
         let triangles = mesh.triangles();
         let mut chunks = Vec::new();

@@ -1,7 +1,8 @@
 //! The draw buffers of a mesh, grouped by patch, in indexed chunks: what the page's viewer
 //! hands to WebGL.
 
-use super::params::set;
+use super::params::{read_callback, set};
+use super::progress_fn;
 use crate::mesh::{bounding_sphere, DrawWriter, FaceGroups, ImportedMesh};
 use js_sys::{Float32Array, Object, Uint16Array, Uint32Array};
 use wasm_bindgen::prelude::*;
@@ -31,14 +32,16 @@ export interface DisplayBuffers {
 }
 "#;
 
-/// The draw buffers of `mesh` for `groups`, reporting `("display", fraction)`. Each chunk is
+/// The draw buffers of `mesh` for `groups`, reporting `("display", fraction)` to the optional
+/// `onProgress` callback. Each chunk is
 /// written in the engine's memory and copied out at once: the arrays are built in
 /// JavaScript's memory, never whole in the engine's, whose memory only grows.
 pub(super) fn display_buffers(
     mesh: &ImportedMesh,
     groups: &FaceGroups,
-    progress: &mut dyn FnMut(&str, f64),
+    on_progress: Option<JsValue>,
 ) -> Result<JsValue, JsError> {
+    let mut progress = progress_fn(read_callback(on_progress, "onProgress")?);
     let mesh = &mesh.mesh;
     progress("display", 0.0);
     let chunks = groups.draw_chunks(mesh, CHUNK_FACES, CHUNK_VERTICES);

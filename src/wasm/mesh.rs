@@ -192,9 +192,8 @@ impl Mesh {
         #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
         on_progress: Option<JsValue>,
     ) -> Result<JsValue, JsError> {
-        let mut progress = progress_fn(read_callback(on_progress, "onProgress")?);
         let groups = FaceGroups::new(self.inner.mesh.triangle_count(), 1, |_| 0);
-        super::display::display_buffers(&self.inner, &groups, &mut progress)
+        super::display::display_buffers(&self.inner, &groups, on_progress)
     }
 
     /// What was found while reading: counts, area, bounding box, defects (see `MeshReport`).

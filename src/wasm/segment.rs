@@ -1,7 +1,7 @@
 //! `Segmentation`: the patches of one `Mesh.segment` call (JavaScript must call `free()`).
 
 use super::index::{hit_to_js, index_of, read_ray, SharedIndex};
-use super::params::{describe, integer, read_callback, read_number_list, ParamReader};
+use super::params::{describe, integer, read_number_list, ParamReader};
 use super::progress_fn;
 use crate::math::{Compact, Real};
 use crate::mesh::{FaceGroups, ImportedMesh};
@@ -138,13 +138,12 @@ impl Segmentation {
         #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
         on_progress: Option<JsValue>,
     ) -> Result<JsValue, JsError> {
-        let mut progress = progress_fn(read_callback(on_progress, "onProgress")?);
         let patch_of = &self.inner.patch_of;
         let dropped = self.inner.patches.len();
         let groups = FaceGroups::new(patch_of.len(), dropped + 1, |f| {
             usize::try_from(patch_of[f]).unwrap_or(dropped)
         });
-        super::display::display_buffers(&self.mesh, &groups, &mut progress)
+        super::display::display_buffers(&self.mesh, &groups, on_progress)
     }
 
     /// `{ id, triangleCount, area, normal: [x,y,z], maxDeviation, centroid: [x,y,z] }[]`,
