@@ -87,6 +87,14 @@ pub enum SprayError {
         /// A resolution that fits.
         suggestion: Real,
     },
+    /// So many faces that even their corners alone would be too many samples.
+    #[error("{faces} triangles are selected: even unsplit, their corners would make about {samples} evaluation samples (at most {max} allowed, counting a corner once for each triangle); plan on fewer triangles, e.g. one patch", max = MAX_SAMPLES)]
+    TooManyFaces {
+        /// Faces selected.
+        faces: usize,
+        /// Samples they would create.
+        samples: usize,
+    },
     /// The time step would create too many trajectory samples.
     #[error("timeStep {time_step} s would cut the trajectory into {samples} time samples (at most {max}); use a larger time step", max = MAX_TIME_SAMPLES)]
     TooManyTimeSamples {
@@ -158,6 +166,10 @@ pub struct SprayParams {
     pub time_step: Option<Real>,
     /// Distance between evaluation samples (default `R/8`).
     pub resolution: Option<Real>,
+    /// Most evaluation samples wanted (a positive whole number): a finer resolution is
+    /// coarsened until the faces' samples, counted as an upper bound, fit (see
+    /// [`fit_resolution`](super::samples::fit_resolution)); default none.
+    pub sample_budget: Option<usize>,
     /// Width of the band along the boundary left out of the interior quality (default `R`).
     pub edge_exclusion: Option<Real>,
     /// Quality limits; without them the plan uses `spacing` only.
@@ -203,6 +215,7 @@ impl Default for SprayParams {
             extension: None,
             time_step: None,
             resolution: None,
+            sample_budget: None,
             edge_exclusion: None,
             quality: None,
             target_thickness: None,
@@ -334,6 +347,13 @@ impl SprayParams {
             Some(r) => positive("resolution", r)?,
             None => radius / 8.0,
         };
+        if self.sample_budget == Some(0) {
+            return Err(SprayError::OutOfRange {
+                name: "sampleBudget",
+                value: 0.0,
+                range: "a positive whole number",
+            });
+        }
         let edge_exclusion = match self.edge_exclusion {
             Some(e) => non_negative("edgeExclusion", e)?,
             None => radius,

@@ -27,7 +27,7 @@ use super::grid::PointGrid;
 use super::params::{SprayError, SprayParams};
 use super::quality::{evaluate_quality, interior_mask, Quality, ThicknessStats};
 use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame};
-use super::samples::{sample_faces, subdivides, EvaluationSamples};
+use super::samples::{fit_resolution, sample_faces, subdivides, EvaluationSamples};
 use super::search::{ripple, search_spacing, Fidelity, Iteration, Limits, FALLBACK_MARGIN};
 use super::speed::{optimise_speeds, SpeedLimits};
 use super::trajectory::{build_trajectory, TrajectoryCounts, TURN_ON_RADIUS_RATIO};
@@ -125,6 +125,9 @@ pub struct SprayPlan {
     pub pass_count: usize,
     /// What the trajectory contains (transitions, arcs, trimmed concave edges).
     pub counts: TrajectoryCounts,
+    /// Distance between evaluation samples used (the one asked for, or coarser to fit
+    /// `sample_budget`).
+    pub resolution: Real,
     /// Evaluation samples and their display mesh.
     pub samples: EvaluationSamples,
     /// Thickness per sample, mesh unit.
@@ -405,7 +408,7 @@ pub fn plan_spray(
     params: &SprayParams,
     progress: &mut dyn FnMut(&str, f64),
 ) -> Result<SprayPlan, SprayError> {
-    let resolved = params.validate()?;
+    let mut resolved = params.validate()?;
     let frame = patch_frame(
         mesh,
         geometry,
@@ -418,6 +421,9 @@ pub fn plan_spray(
         frame.plane_offsets(params.spacing)?;
     }
     progress("spray samples", 0.0);
+    if let Some(budget) = params.sample_budget {
+        resolved.resolution = fit_resolution(mesh, &frame.faces, resolved.resolution, budget);
+    }
     let mut full = Sampling::new(
         mesh,
         adjacency,
@@ -676,6 +682,7 @@ pub fn plan_spray(
         directions,
         pass_count,
         counts,
+        resolution: setup.full.resolution,
         samples: setup.full.samples,
         thickness,
         interior: setup.full.interior,

@@ -38,12 +38,70 @@ pub struct EvaluationSamples {
 /// up, but no more than `2·√area / resolution`, so a sliver (a long edge, hardly any area)
 /// does not get thousands of samples; the two agree on well-shaped triangles.
 fn subdivisions(corners: &[Point3; 3], resolution: Real) -> usize {
+    subdivisions_of(face_scale(corners), resolution)
+}
+
+/// A face's longest edge and `2·√area`, which decide its [`subdivisions`].
+fn face_scale(corners: &[Point3; 3]) -> (Real, Real) {
     let [a, b, c] = corners;
     let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
     let area = 0.5 * (b - a).cross(&(c - a)).norm();
+    (longest, 2.0 * area.sqrt())
+}
+
+fn subdivisions_of((longest, root): (Real, Real), resolution: Real) -> usize {
     let by_edge = (longest / resolution).ceil();
-    let by_area = (2.0 * area.sqrt() / resolution).ceil();
+    let by_area = (root / resolution).ceil();
     by_edge.min(by_area).max(1.0) as usize
+}
+
+/// Steps of the bisection in [`fit_resolution`] at most.
+const FIT_STEPS: usize = 40;
+
+/// The finest resolution, not below `resolution`, at which sampling `faces` gives at most
+/// `budget` samples, counting `(k + 1)(k + 2)/2` a face of `k` [`subdivisions`] (an upper
+/// bound: samples on shared edges count twice). Where even one subdivision a face (the
+/// vertices) counts more, the resolution at which every face has one. No paper: a bisection,
+/// to within 0.1 %, on a count that falls as the resolution grows; O(F) a step,
+/// [`FIT_STEPS`] steps at most.
+pub fn fit_resolution(mesh: &TriMesh, faces: &[u32], resolution: Real, budget: usize) -> Real {
+    let scales: Vec<(Real, Real)> = faces
+        .iter()
+        .map(|&f| face_scale(&mesh.corners(f as usize)))
+        .collect();
+    let count = |r: Real| -> Real {
+        scales
+            .iter()
+            .map(|&s| {
+                let k = subdivisions_of(s, r) as Real;
+                (k + 1.0) * (k + 2.0) / 2.0
+            })
+            .sum()
+    };
+    let budget = budget as Real;
+    if resolution.is_nan() || resolution <= 0.0 || count(resolution) <= budget {
+        return resolution;
+    }
+    // From this resolution on every face has one subdivision: coarser changes nothing.
+    let coarsest = scales
+        .iter()
+        .fold(resolution, |m, &(longest, root)| m.max(longest.min(root)));
+    if count(coarsest) > budget {
+        return coarsest;
+    }
+    let (mut lo, mut hi) = (resolution, coarsest);
+    for _ in 0..FIT_STEPS {
+        if hi - lo <= 1e-3 * hi {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        if count(mid) > budget {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
 }
 
 /// Whether sampling `faces` at `resolution` subdivides any of them (if not, the samples are
@@ -79,6 +137,13 @@ pub fn sample_faces(
         }
     }
     if total > MAX_SAMPLES as Real {
+        // Every face unsplit already: a coarser resolution cannot help.
+        if subdivided.iter().all(|&k| k == 1) {
+            return Err(SprayError::TooManyFaces {
+                faces: faces.len(),
+                samples: total as usize,
+            });
+        }
         return Err(SprayError::TooManySamples {
             resolution,
             samples: total as usize,
@@ -358,6 +423,87 @@ mod tests {
         let total: Real = s.weights.iter().sum();
         assert!((total - 2.0).abs() < 1e-12);
         assert!(s.normals.iter().all(|n| (n.z - 1.0).abs() < 1e-12));
+    }
+
+    /// A grid of `n` × `n` squares of side 1 split in two, plus one sliver 10 long.
+    fn grid_and_sliver(n: u32) -> TriMesh {
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                positions.push(Point3::new(i as Real, j as Real, 0.0));
+            }
+        }
+        let at = |i: u32, j: u32| j * (n + 1) + i;
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        let s = positions.len() as u32;
+        positions.extend([
+            Point3::new(0.0, -1.0, 0.0),
+            Point3::new(10.0, -1.0, 0.0),
+            Point3::new(5.0, -1.01, 0.0),
+        ]);
+        triangles.push([s, s + 2, s + 1]);
+        TriMesh::new(positions, triangles).unwrap()
+    }
+
+    #[test]
+    fn the_fitted_resolution_is_the_finest_within_the_budget() {
+        let mesh = grid_and_sliver(20);
+        let faces: Vec<u32> = (0..mesh.triangle_count() as u32).collect();
+        let count = |r: Real| -> usize {
+            faces
+                .iter()
+                .map(|&f| {
+                    let k = subdivisions(&mesh.corners(f as usize), r);
+                    (k + 1) * (k + 2) / 2
+                })
+                .sum()
+        };
+        // Within the budget already: unchanged.
+        assert_eq!(fit_resolution(&mesh, &faces, 0.25, count(0.25)), 0.25);
+        for budget in [5_000, 20_000, 100_000] {
+            let r = fit_resolution(&mesh, &faces, 0.05, budget);
+            assert!(count(r) <= budget, "budget {budget}: {} at {r}", count(r));
+            assert!(
+                count(r * 0.998) > budget,
+                "budget {budget}: {r} is not the finest"
+            );
+            assert!(r >= 0.05);
+        }
+        // Fewer than one subdivision a face can give: the resolution of one a face (the
+        // sliver's 2·√area, about 0.45, is its largest scale), and the count is the least.
+        let least = 3 * faces.len();
+        let r = fit_resolution(&mesh, &faces, 0.05, least - 1);
+        assert_eq!(count(r), least);
+        assert!(count(r * 0.999) > least);
+        // The sliver never decides by its length: at 1 it has one subdivision, not ten.
+        assert_eq!(subdivisions(&mesh.corners(faces.len() - 1), 1.0), 1);
+    }
+
+    #[test]
+    fn too_many_faces_for_any_resolution_say_so_not_to_coarsen() {
+        // 720,001 faces: 3 corners each is over MAX_SAMPLES at any resolution.
+        let mesh = grid_and_sliver(600);
+        let faces: Vec<u32> = (0..mesh.triangle_count() as u32).collect();
+        let (adjacency, geometry) = (FaceAdjacency::new(&mesh), FaceGeometry::new(&mesh));
+        for resolution in [0.5, 1000.0] {
+            let e = sample_faces(&mesh, &adjacency, &geometry, &faces, resolution).unwrap_err();
+            let message = e.to_string();
+            if resolution < 1.0 {
+                assert!(message.contains("use a coarser resolution"), "{message}");
+            } else {
+                assert!(
+                    message.starts_with("720001 triangles are selected: even unsplit")
+                        && message.ends_with("plan on fewer triangles, e.g. one patch"),
+                    "{message}"
+                );
+            }
+        }
     }
 
     /// Sample positions as bit patterns, for exact comparisons.

@@ -16,6 +16,8 @@ export interface SprayPlanParams {
   spacing: number; standoff: number; speed: number; flowRate: number; coneAngle: number;
   transitionAngle: number; efficiency?: number; direction?: [number, number, number];
   rasterAngle?: number; extension?: number; timeStep?: number; resolution?: number;
+  /** Most evaluation samples wanted: a finer resolution is coarsened to fit (plan.resolution). */
+  sampleBudget?: number;
   edgeExclusion?: number; quality?: SprayQualityLimits; targetThickness?: number;
   /** Optimise the gun speed piece by piece along the passes (default true). */
   optimiseSpeed?: boolean;
@@ -52,6 +54,7 @@ const PARAM_KEYS: &[&str] = &[
     "extension",
     "timeStep",
     "resolution",
+    "sampleBudget",
     "edgeExclusion",
     "quality",
     "targetThickness",
@@ -94,6 +97,9 @@ pub(crate) fn spray_params_from_js(value: &JsValue) -> Result<SprayParams, JsErr
         extension: r.optional_number("extension")?,
         time_step: r.optional_number("timeStep")?,
         resolution: r.optional_number("resolution")?,
+        sample_budget: r
+            .optional_integer("sampleBudget", 1, i64::from(i32::MAX))?
+            .map(|b| b as usize),
         edge_exclusion: r.optional_number("edgeExclusion")?,
         quality,
         target_thickness: r.optional_number("targetThickness")?,
@@ -192,6 +198,13 @@ impl SprayPlan {
     #[wasm_bindgen(getter, js_name = pathLength)]
     pub fn path_length(&self) -> f64 {
         self.inner.path_length
+    }
+
+    /// Distance between evaluation samples used: `resolution`, or coarser to fit
+    /// `sampleBudget`.
+    #[wasm_bindgen(getter)]
+    pub fn resolution(&self) -> f64 {
+        self.inner.resolution
     }
 
     /// Turn of the pass direction used about the mean normal, radians.

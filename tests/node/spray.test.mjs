@@ -265,6 +265,35 @@ test('bad parameters and face lists throw Errors naming them; the mesh keeps wor
   mesh.free();
 });
 
+test('sampleBudget coarsens the resolution until the samples fit; plan.resolution says which', () => {
+  const mesh = Mesh.fromStl(plateStl(400, 300, 4, 3));
+  try {
+    const fine = mesh.planSpray(base);
+    assert.equal(fine.resolution, 12.5);
+    const all = fine.samplePositions().length / 3;
+    fine.free();
+    // The budget counts samples on shared edges twice (an upper bound): 3 × all is enough.
+    for (const budget of [3 * all, all, 300]) {
+      const plan = mesh.planSpray({ ...base, sampleBudget: budget });
+      const samples = plan.samplePositions().length / 3;
+      assert.ok(samples <= budget, `${samples} samples for a budget of ${budget}`);
+      if (budget > all) assert.equal(plan.resolution, 12.5);
+      else assert.ok(plan.resolution > 12.5 && samples < all, `${budget}: resolution ${plan.resolution}`);
+      plan.free();
+    }
+    // Not below what the faces' vertices give: the resolution that leaves them unsplit.
+    const least = mesh.planSpray({ ...base, sampleBudget: 1 });
+    assert.equal(least.samplePositions().length / 3, 20);
+    assert.ok(least.resolution >= 100);
+    least.free();
+    for (const bad of [0, 1.5, -3, '100', NaN]) {
+      assert.throws(() => mesh.planSpray({ ...base, sampleBudget: bad }), /sampleBudget/);
+    }
+  } finally {
+    mesh.free();
+  }
+});
+
 test('patchFaces lists the triangles of a kept patch', () => {
   const mesh = Mesh.fromStl(plateStl(400, 300, 4, 3));
   const seg = mesh.segment({ angleThreshold: 0.35 });
@@ -288,7 +317,7 @@ test('the TypeScript declarations name the spray API', () => {
     'hotspots(): SprayHotspot[]', 'directions(): SprayDirectionTrial[]', 'readonly cycleTime: number',
     'readonly speedOptimised: boolean', 'readonly minSpeed: number', 'readonly maxSpeed: number', 'toCsv(opts?: ExportOptions): string', 'toJson(opts?: ExportOptions): string',
     'toRapid(opts?: ExportOptions): string[]', 'toKrl(opts?: ExportOptions): string[]',
-    'readonly passCount: number', 'export interface SprayPlanParams {']) {
+    'readonly passCount: number', 'readonly resolution: number', 'sampleBudget?: number;', 'export interface SprayPlanParams {']) {
     assert.ok(dts.includes(name), `skinpath.d.ts lacks "${name}"`);
   }
 });

@@ -12,56 +12,10 @@ export function onMeshChanged() {
   plan = null;
 }
 
-/**
- * The core splits each face into k² sub-triangles, k = ceil(longest edge / resolution) but at
- * most ceil(2·√area / resolution) (so slivers stay cheap), so long slender faces cost more
- * samples than their area suggests. Returns the finest resolution (≥ `resolution`) whose
- * sample count stays within `budget`, counting (k+1)(k+2)/2 points a face (an upper bound:
- * shared edge points count twice). No paper: a bisection on a count that falls as the
- * resolution grows; 40 steps at most.
- */
-function fitResolution(ctx, faces, resolution, budget) {
-  const { positions: P, indices: I } = ctx.welded();
-  const n = faces ? faces.length : I.length / 3;
-  const longest = new Float64Array(n);
-  const root = new Float64Array(n); // 2·√area
-  for (let i = 0; i < n; i++) {
-    const f = faces ? faces[i] : i;
-    const [a, b, c] = [3 * I[3 * f], 3 * I[3 * f + 1], 3 * I[3 * f + 2]];
-    const d = (u, v) => Math.hypot(P[u] - P[v], P[u + 1] - P[v + 1], P[u + 2] - P[v + 2]);
-    longest[i] = Math.max(d(a, b), d(b, c), d(c, a));
-    const [ux, uy, uz] = [P[b] - P[a], P[b + 1] - P[a + 1], P[b + 2] - P[a + 2]];
-    const [vx, vy, vz] = [P[c] - P[a], P[c + 1] - P[a + 1], P[c + 2] - P[a + 2]];
-    const area = 0.5 * Math.hypot(uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx);
-    root[i] = 2 * Math.sqrt(area);
-  }
-  const count = (r) => {
-    let total = 0;
-    for (let i = 0; i < n; i++) {
-      const k = Math.max(1, Math.min(Math.ceil(longest[i] / r), Math.ceil(root[i] / r)));
-      total += ((k + 1) * (k + 2)) / 2;
-    }
-    return total;
-  };
-  if (count(resolution) <= budget) return resolution;
-  let lo = resolution;
-  let hi = resolution * 2;
-  for (let i = 0; i < 40 && count(hi) > budget; i++) {
-    lo = hi;
-    hi *= 2;
-  }
-  for (let i = 0; i < 40 && hi - lo > 1e-3 * hi; i++) {
-    const mid = (lo + hi) / 2;
-    if (count(mid) > budget) lo = mid;
-    else hi = mid;
-  }
-  return hi;
-}
-
 export const ops = {
   /**
    * { params, patchId | null, sampleBudget? } → arrays to draw and the figures; the plan
-   * stays here. With a sampleBudget the evaluation resolution is coarsened to fit it.
+   * stays here. With a sampleBudget the core coarsens the evaluation resolution to fit it.
    */
   plan(ctx, { params, patchId, sampleBudget }, progress) {
     let faces;
@@ -69,10 +23,7 @@ export const ops = {
       if (!ctx.segmentation) throw new Error('There is no segmentation: segment the model or plan on the whole mesh.');
       faces = ctx.segmentation.patchFaces(patchId);
     }
-    const radius = params.standoff * Math.tan(params.coneAngle / 2);
-    const wanted = params.resolution ?? radius / 8;
-    const resolution = sampleBudget ? fitResolution(ctx, faces, wanted, sampleBudget) : wanted;
-    if (resolution !== wanted) params = { ...params, resolution };
+    if (sampleBudget) params = { ...params, sampleBudget };
     const t0 = performance.now();
     const next = ctx.mesh.planSpray(params, faces, progress);
     const ms = performance.now() - t0;
@@ -102,8 +53,9 @@ export const ops = {
       sampleTriangles: plan.sampleTriangles(),
       quality: plan.quality(),
       iterations: plan.iterations(),
-      resolution,
-      coarsened: resolution > wanted,
+      resolution: plan.resolution,
+      // The resolution asked for: the one given, or the core's default R/8.
+      coarsened: plan.resolution > (params.resolution ?? (params.standoff * Math.tan(params.coneAngle / 2)) / 8),
       memoryBytes: ctx.memoryBytes(),
       timings: { planMs: ms },
     };
