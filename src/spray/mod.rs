@@ -36,7 +36,7 @@ pub use quality::{evaluate_quality, interior_mask, thickness_stats, Quality, Thi
 pub use raster::{
     order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass, ARC_BINS, MAX_STRETCH,
 };
-pub use samples::{sample_faces, EvaluationSamples};
+pub use samples::{fit_resolution, sample_faces, EvaluationSamples};
 pub use search::{
     ripple, search_spacing, Fidelity, Iteration, Limits, SpacingChoice, COARSE_STEPS,
     FALLBACK_MARGIN, PREDICTED_WINDOWS, PREDICTION_STEPS, REFINE_STEPS, REFINE_TOLERANCE,

@@ -168,7 +168,7 @@ pub struct SprayParams {
     pub resolution: Option<Real>,
     /// Most evaluation samples wanted (a positive whole number): a finer resolution is
     /// coarsened until the faces' samples, counted as an upper bound, fit (see
-    /// [`fit_resolution`](super::samples::fit_resolution)); default none.
+    /// [`fit_resolution`](super::fit_resolution)); default none.
     pub sample_budget: Option<usize>,
     /// Width of the band along the boundary left out of the interior quality (default `R`).
     pub edge_exclusion: Option<Real>,

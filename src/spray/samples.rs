@@ -59,11 +59,11 @@ fn subdivisions_of((longest, root): (Real, Real), resolution: Real) -> usize {
 const FIT_STEPS: usize = 40;
 
 /// The finest resolution, not below `resolution`, at which sampling `faces` gives at most
-/// `budget` samples, counting `(k + 1)(k + 2)/2` a face of `k` [`subdivisions`] (an upper
-/// bound: samples on shared edges count twice). Where even one subdivision a face (the
-/// vertices) counts more, the resolution at which every face has one. No paper: a bisection,
-/// to within 0.1 %, on a count that falls as the resolution grows; O(F) a step,
-/// [`FIT_STEPS`] steps at most.
+/// `budget` samples, counting `(k + 1)(k + 2)/2` a face of `k` subdivisions (as
+/// [`sample_faces`] splits it; an upper bound: samples on shared edges count twice). Where
+/// even one subdivision a face (the vertices) counts more, the resolution at which every face
+/// has one. No paper: a bisection, to within 0.1 %, on a count that falls as the resolution
+/// grows; O(F) a step, 40 steps at most.
 pub fn fit_resolution(mesh: &TriMesh, faces: &[u32], resolution: Real, budget: usize) -> Real {
     let scales: Vec<(Real, Real)> = faces
         .iter()
