@@ -197,6 +197,17 @@ impl Sampling {
     /// than the resolution in each direction, so every cube keeps one and the thinned set
     /// has no holes (a lattice at about the resolution, thinned at its own spacing, would).
     fn with_solve_samples(mut self, radius: Real) -> Sampling {
+        // Each cube the surface meets keeps a sample, and a surface flat at the cubes' scale
+        // meets at least its area over √2·cell² of them (a cube's largest plane section):
+        // where that alone is over the fraction (a mesh coarser than the resolution, whose
+        // samples lie about one a cube), thinning is not tried.
+        let area: Real = self.samples.weights.iter().sum();
+        let cell = self.resolution;
+        if area / (std::f64::consts::SQRT_2 * cell * cell)
+            > SOLVE_SAMPLE_FRACTION * self.samples.positions.len() as Real
+        {
+            return self;
+        }
         self.solve = self
             .thinned(self.resolution, radius)
             .filter(|t| {

@@ -73,6 +73,16 @@ test('an aircraft opens through the file input', async () => {
   await page.screenshot({ path: join(outputDir, 'e2e-airplane.png') });
 });
 
+test('an ASCII file opens through the file input too (the worker gathers its text)', async () => {
+  // A user's file is streamed into the engine; an ASCII one is gathered whole and read.
+  const bytes = readFileSync(join(modelsDir, 'bwb_4464_pygeo_ascii.stl'));
+  await page.setInputFiles('#file-input', { name: 'bwb_as_a_user_file.stl', mimeType: 'model/stl', buffer: bytes });
+  await waitForModel(page, 'bwb_as_a_user_file.stl');
+  assert.equal(await text('#stat-triangles'), '4,464');
+  assert.ok((await rowCount()) > 0);
+  assert.match(await text('#status'), /^Opened bwb_as_a_user_file\.stl in /);
+});
+
 test('an aircraft opens by drag and drop on the viewport', async () => {
   const bytes = readFileSync(join(modelsDir, 'wingbody_79868_flow360.stl')).toString('base64');
   await page.evaluate((base64) => {
