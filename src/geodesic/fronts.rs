@@ -103,15 +103,10 @@ impl Scratch {
 }
 
 /// Lowers the distances of `vertices` by interpolating their neighbours' sources; returns
-/// the largest amount a distance was lowered by and how many were lowered. `slack`: see
+/// the largest amount a distance was lowered by. `slack`: see
 /// [`NEIGHBOUR_SLACK`]. The sources are read, never changed, and the lowered distances are
 /// written once every vertex is done, so the order of `vertices` does not matter.
-pub(super) fn lower(
-    s: &mut Solver,
-    vertices: &[u32],
-    slack: bool,
-    scratch: &mut Scratch,
-) -> (Real, usize) {
+pub(super) fn lower(s: &mut Solver, vertices: &[u32], slack: bool, scratch: &mut Scratch) -> Real {
     let surface = s.surface;
     let mesh = surface.mesh;
     let pos = mesh.positions();
@@ -283,7 +278,7 @@ pub(super) fn lower(
         most = most.max(s.dist[x as usize] - d);
         s.dist[x as usize] = d;
     }
-    (most, scratch.lowered.len())
+    most
 }
 
 /// Step III: keeps the distance 1-Lipschitz along the edges after `lowered` vertices went
