@@ -473,20 +473,20 @@ fn plane_section_source_is_accurate_on_its_convex_side_too() {
     // Anywhere, with f32 positions: front interpolation around the pole went on only while
     // three quarters of a ring's distances were lowered; 31 rings out it lowered 54 of 186,
     // by up to 0.070 mm, and stopped, leaving the rings beyond 0.091 mm too long (0.058 now
-    // that it goes on while the gain does). With f64 positions the largest error lies
-    // near the section (0.093).
+    // that it goes on while the gain does). With f64 positions the ring's vertices lie on
+    // the plane exactly, and the section touched each face round one of them at that vertex
+    // only: a piece of no length, which the propagation takes for a point source (0.093 mm
+    // too far; 0.070 mm 20 mm from the section at 500k triangles). Such pieces are dropped
+    // now.
     let exact = cap(100, CAP_R, 1.0);
     let rounded = rounded_to_f32(&exact);
-    for (name, s, bound) in [("f64", exact, 0.1), ("f32", rounded, 0.07)] {
+    for (name, s) in [("f64", exact), ("f32", rounded)] {
         let (near, all) = errors_from_the_plane_at_0_6(&s);
         eprintln!(
             "cap 100 rings ({name}) from a plane section: max error within 50 mm {near:.4}, \
              anywhere {all:.4}"
         );
-        assert!(
-            near < 0.055 && all < bound,
-            "{name}: {near}, anywhere {all}"
-        );
+        assert!(near < 0.055 && all < 0.07, "{name}: {near}, anywhere {all}");
     }
 }
 

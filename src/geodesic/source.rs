@@ -166,6 +166,12 @@ fn subdivided_curve(points: &[Point3], faces: &[u32], closed: bool, step: Real) 
     };
     for (j, &f) in faces.iter().enumerate() {
         let (a, b) = (points[j], points[(j + 1) % points.len()]);
+        // A segment of no length (a plane section through a vertex, met again in each face
+        // round it that the plane only touches) would make a piece of no direction, which
+        // the propagation would take for a point source.
+        if a == b && !(curve.points.is_empty() && j + 1 == faces.len()) {
+            continue;
+        }
         let pieces = ((b - a).norm() / step).ceil().max(1.0) as usize;
         for k in 0..pieces {
             curve
@@ -234,9 +240,17 @@ fn snap_polyline(
                     format!("the segment from source point {i} to {}", (i + 1) % n)
                 })?
             };
-            curve.points.push(s.0);
-            curve.faces.push(s.1);
+            // A point repeated (given twice, or two points snapped to one) would make a
+            // piece of no length, which the propagation would take for a point source.
+            if curve.points.last() != Some(&s.0) {
+                curve.points.push(s.0);
+                curve.faces.push(s.1);
+            }
         }
+    }
+    if closed && curve.points.len() > 1 && curve.points.last() == curve.points.first() {
+        curve.points.pop();
+        curve.faces.pop();
     }
     Ok(curve)
 }
@@ -453,6 +467,44 @@ mod tests {
                     length > 0.95 * full && length < 1.15 * full,
                     "length {length}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn no_piece_of_a_source_curve_has_no_length() {
+        // A plane through a ring of vertices (z = 4) touches the faces round each of them
+        // at that vertex only; a polyline repeats a point and ends where it began.
+        let mesh = tube(false);
+        let adjacency = FaceAdjacency::new(&mesh);
+        let surface = Surface::new(&mesh, &adjacency, None).unwrap();
+        let step = surface.mean_edge / 4.0;
+        let plane = GeodesicSource::Plane {
+            point: Point3::new(10.0, 0.0, 4.0),
+            normal: Vector3::z(),
+        };
+        let ring: Vec<Point3> = (0..24)
+            .filter(|&v| v % 3 == 0)
+            .map(|v| mesh.positions()[2 * 24 + v])
+            .collect();
+        let mut repeated = vec![ring[0], ring[1], ring[1]];
+        repeated.extend_from_slice(&ring[2..]);
+        repeated.push(ring[0]);
+        let polyline = GeodesicSource::Polyline {
+            points: repeated,
+            closed: true,
+        };
+        for source in [plane, polyline] {
+            // The polyline's chords cut inside the tube, up to 1.2 from it.
+            let resolved = resolve(&surface, &OnceCell::new(), &source, step, 2.0).unwrap();
+            let curve = &resolved.curves[0];
+            assert!(curve.closed);
+            assert_eq!(curve.points.len(), curve.faces.len());
+            let n = curve.points.len();
+            assert!(n > 50, "{n} samples");
+            for j in 0..n {
+                let (p, q) = (curve.points[j], curve.points[(j + 1) % n]);
+                assert!(p != q, "{source:?}: samples {j} and the next are one point");
             }
         }
     }
