@@ -6,6 +6,7 @@
 //! θ = 0.6.
 //! Sphere: R 100 cube sphere, point source at (0, 0, −R), great-circle distance.
 //! Environment: `F32=1` rounds positions to f32 as read from an STL (the bench's input);
+//! `DIST_DUMP=path` writes each method's distances to `path.<method>`, one a line;
 //! `HASH=1` prints a hash of each method's distances (their bits), to check that a change
 //! keeps results bit-identical; `BINS=n`, `WORST=n` break the errors down.
 
@@ -145,6 +146,10 @@ fn main() {
                     s.mesh.positions()[i]
                 );
             }
+        }
+        if let Ok(path) = std::env::var("DIST_DUMP") {
+            let text: String = d.iter().map(|d| format!("{d}\n")).collect();
+            std::fs::write(format!("{path}.{m}"), text).expect("dump");
         }
         if std::env::var_os("HASH").is_some() {
             // FNV-1a over the bits of every distance.
