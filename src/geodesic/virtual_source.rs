@@ -36,13 +36,14 @@
 //!         rim, 500k triangles 0.0062 / 0.0009, 2M 0.0031 / 0.0002 (fast marching 1.8 / 0.10
 //!         and 1.0 / 0.05); sphere R 100 from a point, 500k 0.0078 / 0.0006, 2M 0.0043 /
 //!         0.00013 (fast marching 3.0 / 1.3 and 2.9 / 1.2); the cap from its section by
-//!         the plane at θ = 0.6 (the accuracy example, native), 0.0094 / 0.0030 and 0.0046 /
-//!         0.0006 (f32 positions as in an STL: 0.0095 and 0.0031; the exact method 0.0052 /
+//!         the plane at θ = 0.6 (the accuracy example, native), 0.0073 / 0.0030 and 0.0038 /
+//!         0.0006 (f32 positions as in an STL: 0.0073 and 0.0036; the exact method 0.0052 /
 //!         0.0031 at 500k); by the plane through its ring of vertices nearest to θ = 0.6,
-//!         0.0081 / 0.0015 at 500k. The plane at θ = 0.6 at other resolutions (max error,
-//!         mm): 20k triangles 0.19, 70k 0.056, 150k 0.018, 200k 0.017, 400k 0.010, 1M 0.0050
-//!         (before [`Solver::follow_curve`]: 1.15, 0.60, 0.41, 0.34, 0.25, 0.16; 500k 0.043). Time
-//!         on a shared machine (one run), ratio to fast marching's solve: cap 500k 0.85×, 2M 0.66×; sphere 500k 0.95×, 2M 0.82× (about
+//!         0.0066 / 0.0013 at 500k. The plane at θ = 0.6 at other resolutions (max error,
+//!         mm): 20k triangles 0.14, 70k 0.044, 150k 0.018, 200k 0.014, 400k 0.0082, 1M
+//!         0.0043 (before [`Solver::follow_curve`]: 1.15, 0.60, 0.41, 0.34, 0.25, 0.16; 500k
+//!         0.043). Time on a shared machine (one run), ratio to fast marching's solve: cap
+//!         500k 0.85×, 2M 0.66×; sphere 500k 0.95×, 2M 0.82× (about
 //!         1.1 of the time without front interpolation at 500k, alternating the builds; fast
 //!         marching itself moves by 10–15 % between runs). The bench times a first call in a
 //!         fresh process: at 500k its fixed costs (the engine's baseline code in loops run
@@ -347,7 +348,7 @@ impl<'a> Solver<'a> {
             let v = v as usize;
             self.settled[v] = true;
             if !self.piece.is_empty() {
-                if let Some(beyond_q) = self.past_a_stop(v) {
+                if let Some(beyond_q) = self.past_an_end(v) {
                     self.follow_curve(v, beyond_q);
                 }
             }
