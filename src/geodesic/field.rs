@@ -15,11 +15,11 @@
 
 use super::iso_lines::{contour, IsoLine};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
-use super::source::{resolve, GeodesicSource};
+use super::source::{boundary_loops, resolve, GeodesicSource};
 use super::surface::Surface;
 use super::voxel::{propagate as voxel_propagate, voxelise, VoxelField};
 use super::voxel_paths::order_level;
-use crate::math::{Real, Vector3};
+use crate::math::{angle_between, Real, Vector3};
 use crate::mesh::{FaceAdjacency, TriMesh};
 use crate::toolpath::{Pose, PoseKind, ToolPath};
 
@@ -41,11 +41,25 @@ const EXACT_FIRST_FACES: usize = 100_000;
 /// have defects far below it (a 500k-triangle sphere: 5·10⁻⁵), and corners stay corners
 /// however fine the mesh.
 const CORNER_DEFECT: Real = 0.05;
+/// ...or with a hole: a boundary loop whose vertices' face angles, less π each, sum to more
+/// than this (radians). The rim of a hole in a flat plate sums to 2π, an outer boundary to
+/// −2π (jagged or not: its notches and teeth cancel), a tube's rims to 0. Virtual sources
+/// are not held to the shadow a hole casts, and were carried straight across it: on
+/// Orion's heat shield (5,694 faces, six holes about 1.3 ft across), from its section by
+/// the plane x = 0, up to 1.2 ft short of the exact distance behind a hole (no corner there,
+/// so the exact method was not tried); on the cap R 1000 mm of 60k faces with a hole 120 mm
+/// across, from a plane section, 15 mm. Larger surfaces, and a try over its budget, keep
+/// that error (see "Limits" in `virtual_source.rs`).
+const HOLE_TURNING: Real = std::f64::consts::PI;
 /// Windows per face the exact method may process there (measured on whole aircraft models
 /// from a vertex: 19–32 per face on a BWB, 45–46 on a wing-body, 35–59 on Orion). A try on
 /// course to overrun it gives up early (see `exact::PROJECTED_OVERRUN`): from the nose of the
 /// wing-body (161 per face) at 26 per face.
 const EXACT_FIRST_WINDOWS_PER_FACE: u64 = 64;
+/// ...and at least this many on a small surface (about half a second natively), where a
+/// budget per face would give up on a few milliseconds of work: Orion's heat shield from its
+/// section by the plane x = 0 takes 71 windows per face (405k).
+const EXACT_FIRST_MIN_WINDOWS: u64 = 1 << 21;
 
 /// Geodesic distance from a source, by the mesh or the voxel method.
 #[derive(Clone, Debug)]
@@ -180,9 +194,10 @@ pub fn geodesic_distance(
 }
 
 /// Windows the accurate method lets the exact one process first (`None`: it does not try):
-/// `given` when set (`Some(0)`: never), else [`EXACT_FIRST_WINDOWS_PER_FACE`] per face on a
-/// surface of at most [`EXACT_FIRST_FACES`] faces with a corner (see [`CORNER_DEFECT`]).
-/// O(F).
+/// `given` when set (`Some(0)`: never), else [`EXACT_FIRST_WINDOWS_PER_FACE`] per face (at
+/// least [`EXACT_FIRST_MIN_WINDOWS`]) on a
+/// surface of at most [`EXACT_FIRST_FACES`] faces with a corner (see [`CORNER_DEFECT`]) or
+/// a hole (see [`HOLE_TURNING`]). O(F log F).
 fn exact_first_budget(surface: &Surface, given: Option<u64>) -> Option<u64> {
     if let Some(w) = given {
         return (w > 0).then_some(w);
@@ -195,7 +210,31 @@ fn exact_first_budget(surface: &Surface, given: Option<u64>) -> Option<u64> {
         !surface.faces_of(v).is_empty()
             && super::unfolding::angle_defect(surface, v).is_some_and(|d| d.abs() > CORNER_DEFECT)
     });
-    cornered.then_some(EXACT_FIRST_WINDOWS_PER_FACE * faces as u64)
+    (cornered || has_hole(surface))
+        .then_some((EXACT_FIRST_WINDOWS_PER_FACE * faces as u64).max(EXACT_FIRST_MIN_WINDOWS))
+}
+
+/// Whether a boundary loop of `surface` turns as the rim of a hole does (see
+/// [`HOLE_TURNING`]).
+fn has_hole(surface: &Surface) -> bool {
+    let mesh = surface.mesh;
+    // The face angles at boundary vertex v, less π.
+    let turn = |v: usize| -> Real {
+        let angles: Real = surface
+            .faces_of(v)
+            .iter()
+            .map(|&f| {
+                let t = mesh.triangles()[f as usize];
+                let p = mesh.corners(f as usize);
+                let k = t.iter().position(|&x| x as usize == v).unwrap_or(0);
+                angle_between(&(p[(k + 1) % 3] - p[k]), &(p[(k + 2) % 3] - p[k]))
+            })
+            .sum();
+        angles - std::f64::consts::PI
+    };
+    boundary_loops(surface)
+        .iter()
+        .any(|l| l.iter().map(|&v| turn(v as usize)).sum::<Real>() > HOLE_TURNING)
 }
 
 impl DistanceField {

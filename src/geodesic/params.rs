@@ -51,10 +51,11 @@ pub enum GeodesicError {
 pub enum Method {
     /// Dijkstra-ordered propagation of explicit virtual sources (see `virtual_source.rs`):
     /// near the exact polyhedral distance (second order in the edge length away from where
-    /// fronts meet) at the cost of fast marching. The default. On a surface small and
-    /// cornered enough that the exact method finishes within a budget of windows (a whole
-    /// coarse aircraft model: corners are where virtual sources err most, and few faces make
-    /// the exact method cheap), the exact distance instead, and the field reports
+    /// fronts meet) at the cost of fast marching. The default. On a small surface with a
+    /// corner or a hole, where the exact method finishes within a budget of windows (a whole
+    /// coarse aircraft model, a panel with cut-outs: corners are where virtual sources err
+    /// most, they are not held to the shadow of a hole, and few faces make the exact method
+    /// cheap), the exact distance instead, and the field reports
     /// [`Method::Exact`] (see [`DistanceParams::exact_first_windows`]).
     Accurate,
     /// Per-vertex distance by unfolded wavefront propagation: fast, exact on developable
@@ -98,9 +99,10 @@ pub struct DistanceParams {
     pub max_windows: Option<u64>,
     /// Accurate method: windows the exact method may process before the virtual-source
     /// propagation runs instead (it gives up sooner when on course for 1.5 times as many).
-    /// `None`: automatic, `64` per face on a surface of at most 100k faces with a corner (an
-    /// interior vertex whose angle defect exceeds 0.05 rad), none elsewhere; `Some(0)`:
-    /// never. See [`Method::Accurate`].
+    /// `None`: automatic, `64` per face (at least 2²¹) on a surface of at most 100k faces
+    /// with a corner (an interior vertex whose angle defect exceeds 0.05 rad) or a hole (a
+    /// boundary loop turning as a hole's rim does), none elsewhere; `Some(0)`: never. See
+    /// [`Method::Accurate`].
     pub exact_first_windows: Option<u64>,
 }
 

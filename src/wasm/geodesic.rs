@@ -29,7 +29,7 @@ export type GeodesicSource =
   | { plane: { point: [number, number, number]; normal: [number, number, number] } };
 /** method "accurate" (default: virtual sources carried vertex to vertex, near the exact
  *  polyhedral distance at the cost of fast marching; on a surface of at most 100k triangles
- *  with a corner, the exact distance when it takes at most 64 windows per triangle, and the
+ *  with a corner or a hole, the exact distance when it takes at most 64 windows per triangle, and the
  *  field's method is then "exact"), "exact" (window propagation, the exact
  *  polyhedral distance, the reference; slow on large doubly curved meshes), "fast" (unfolded
  *  wavefronts, approximate: millimetres off on large doubly curved panels; "mesh" is its
@@ -329,8 +329,8 @@ pub struct DistanceField {
 #[wasm_bindgen]
 impl DistanceField {
     /// The method that ran: `"accurate"`, `"exact"` (also when `"accurate"` was asked and the
-    /// exact method finished within its budget on a small cornered surface), `"fast"` (also
-    /// when asked as `"mesh"`) or `"voxel"`.
+    /// exact method finished within its budget on a small surface with corners or holes),
+    /// `"fast"` (also when asked as `"mesh"`) or `"voxel"`.
     #[wasm_bindgen(getter)]
     pub fn method(&self) -> String {
         self.inner.method.name().into()

@@ -263,7 +263,7 @@ test('on a small model with corners the accurate method gives the exact distance
   await page.waitForFunction((n) => Number(document.body.dataset.pathsRuns) === n + 1, runs, { timeout: 60_000 });
   await waitForReady(page);
   const summary = await page.textContent('#paths-summary');
-  assert.match(summary, /accurate method \(the exact distance: small surface with corners\)/);
+  assert.match(summary, /accurate method \(the exact distance: small surface with corners or holes\)/);
   const far = Number(summary.match(/farthest point ([\d.]+) mm/)[1]);
   assert.ok(Math.abs(far - 40) < 1e-3, `farthest ${far}: ${summary}`);
   // Levels 7, 14 (on the sides), 21, 28, 35 mm (squares on the top and bottom faces), twice.

@@ -64,9 +64,9 @@ function fieldRow(f) {
 }
 const group = (g) => FIELDS.filter((f) => f.group === g).map(fieldRow).join('');
 /** "accurate method", or what the accurate method ran when it answered by another (the
- *  exact distance on a small cornered surface). */
+ *  exact distance on a small surface with corners or holes). */
 const methodLabel = (run) => (run.ran && run.ran !== run.method
-  ? `${run.method} method (the ${run.ran} distance: small surface with corners)`
+  ? `${run.method} method (the ${run.ran} distance: small surface with corners or holes)`
   : `${run.method} method`);
 const radio = (name, value, label) => `<label><input type="radio" name="${name}" value="${value}"> ${label}</label>`;
 
@@ -112,7 +112,7 @@ const PANEL = `
     </fieldset>
     <fieldset>
       <legend>Method</legend>
-      ${radio('method', 'accurate', 'accurate (virtual sources, or exact on a small cornered surface; the default)')}
+      ${radio('method', 'accurate', 'accurate (virtual sources, or exact on a small surface with corners or holes; the default)')}
       ${radio('method', 'exact', 'exact (window propagation; slow on large curved meshes)')}
       ${radio('method', 'fast', 'fast (unfolded wavefronts; approximate on curved meshes)')}
       ${radio('method', 'voxel', 'voxels (the paper)')}
