@@ -513,8 +513,9 @@ pub(crate) fn propagate(
         popped += 1;
         if popped > cap {
             return Err(GeodesicError::LimitExceeded(format!(
-                "more than {cap} windows (max_windows) were processed on {edges} edges; \
-                 the mesh may have degenerate faces"
+                "more than {cap} windows (max_windows) were processed on {edges} edges: the \
+                 exact method needs more here (a source through a row of vertices, a finely \
+                 curved surface, degenerate faces); the accurate method answers such cases"
             )));
         }
         if s.heap.len() > max_queue {
