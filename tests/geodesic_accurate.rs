@@ -499,10 +499,20 @@ fn plane_sections_between_vertices_follow_the_curve_past_short_pieces() {
     // the piece they hold stops at its end there (the curve turns away), and the vertex got
     // that end: 0.60 mm too far 11 mm from the section. Vertices settled past such an end
     // now follow the curve's next pieces, carried with the one they hold.
-    let s = rounded_to_f32(&cap(108, CAP_R, 1.0));
-    let (near, all) = errors_from_the_plane_at_0_6(&s);
-    eprintln!("cap 108 rings from a plane between rings: max error within 50 mm {near:.4}, anywhere {all:.4}");
+    let (near, all) = from_the_plane_between_rings(108);
     assert!(near < 0.05 && all < 0.08, "{near}, anywhere {all}");
+}
+
+/// [`errors_from_the_plane_at_0_6`] on the cap of `rings` rings with f32 positions (the plane
+/// then lies between rings), printed.
+fn from_the_plane_between_rings(rings: usize) -> (Real, Real) {
+    let s = rounded_to_f32(&cap(rings, CAP_R, 1.0));
+    let (near, all) = errors_from_the_plane_at_0_6(&s);
+    eprintln!(
+        "cap {rings} rings from a plane between rings: max error within 50 mm {near:.4}, \
+         anywhere {all:.4}"
+    );
+    (near, all)
 }
 
 /// From vertex `src`, the largest |accurate − exact| and the most the accurate distance falls
@@ -1056,9 +1066,7 @@ fn carried_pieces_do_not_outrun_the_curve_far_from_it() {
     // piece, ever further from the curve: 0.031 mm too far beyond 50 mm of it, where the
     // error within 50 mm is 0.017; a carry now has to gain a thousandth of an edge, and the
     // far side keeps below the near one (0.018 mm anywhere).
-    let s = rounded_to_f32(&cap(158, CAP_R, 1.0));
-    let (near, all) = errors_from_the_plane_at_0_6(&s);
-    eprintln!("cap 158 rings from a plane between rings: max error within 50 mm {near:.4}, anywhere {all:.4}");
+    let (near, all) = from_the_plane_between_rings(158);
     assert!(all < 0.024, "{near}, anywhere {all}");
 }
 
@@ -1069,13 +1077,11 @@ fn carried_pieces_do_not_outrun_the_curve_far_from_it() {
 fn plane_section_between_vertices_keeps_to_a_hundredth_of_a_millimetre_at_500k() {
     // The cap of 289 rings (500 000 triangles, f32 positions) from its section by the plane
     // at θ = 0.6, between rings: where the exact method is within 0.0052 mm of R·|θ − 0.6|,
-    // the accurate one must keep within 0.01 mm (issue 17's bar where the mesh is that fine).
+    // the accurate one must keep within 0.01 mm (the bar where the mesh is that fine).
     // On the concave side a piece runs on along its line past its end, which lies about
     // u²/2ρ further from the vertex than the curve u past it: 0.0094 mm too far where a
     // vertex's foot lay a few pieces past its own; vertices past any end now follow the
     // curve (0.0083 mm).
-    let s = rounded_to_f32(&cap(289, CAP_R, 1.0));
-    let (near, all) = errors_from_the_plane_at_0_6(&s);
-    eprintln!("cap 289 rings from a plane between rings: max error within 50 mm {near:.4}, anywhere {all:.4}");
+    let (near, all) = from_the_plane_between_rings(289);
     assert!(all < 0.009, "{near}, anywhere {all}");
 }

@@ -17,9 +17,10 @@ use super::iso_lines::{contour, IsoLine};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
 use super::source::{boundary_loops, resolve, GeodesicSource};
 use super::surface::Surface;
+use super::unfolding::corner_angle;
 use super::voxel::{propagate as voxel_propagate, voxelise, VoxelField};
 use super::voxel_paths::order_level;
-use crate::math::{angle_between, Real, Vector3};
+use crate::math::{Real, Vector3};
 use crate::mesh::{FaceAdjacency, TriMesh};
 use crate::toolpath::{Pose, PoseKind, ToolPath};
 
@@ -195,9 +196,8 @@ pub fn geodesic_distance(
 
 /// Windows the accurate method lets the exact one process first (`None`: it does not try):
 /// `given` when set (`Some(0)`: never), else [`EXACT_FIRST_WINDOWS_PER_FACE`] per face (at
-/// least [`EXACT_FIRST_MIN_WINDOWS`]) on a
-/// surface of at most [`EXACT_FIRST_FACES`] faces with a corner (see [`CORNER_DEFECT`]) or
-/// a hole (see [`HOLE_TURNING`]). O(F log F).
+/// least [`EXACT_FIRST_MIN_WINDOWS`]) on a surface of at most [`EXACT_FIRST_FACES`] faces
+/// with a corner (see [`CORNER_DEFECT`]) or a hole (see [`HOLE_TURNING`]). O(F log F).
 fn exact_first_budget(surface: &Surface, given: Option<u64>) -> Option<u64> {
     if let Some(w) = given {
         return (w > 0).then_some(w);
@@ -217,18 +217,12 @@ fn exact_first_budget(surface: &Surface, given: Option<u64>) -> Option<u64> {
 /// Whether a boundary loop of `surface` turns as the rim of a hole does (see
 /// [`HOLE_TURNING`]).
 fn has_hole(surface: &Surface) -> bool {
-    let mesh = surface.mesh;
     // The face angles at boundary vertex v, less π.
     let turn = |v: usize| -> Real {
         let angles: Real = surface
             .faces_of(v)
             .iter()
-            .map(|&f| {
-                let t = mesh.triangles()[f as usize];
-                let p = mesh.corners(f as usize);
-                let k = t.iter().position(|&x| x as usize == v).unwrap_or(0);
-                angle_between(&(p[(k + 1) % 3] - p[k]), &(p[(k + 2) % 3] - p[k]))
-            })
+            .map(|&f| corner_angle(surface, f as usize, v).1)
             .sum();
         angles - std::f64::consts::PI
     };

@@ -280,19 +280,27 @@ pub(super) fn angle_defect(surface: &Surface, v: usize) -> Option<Real> {
 /// The sum of the face angles at `v`, `None` when `v` lies on the boundary of the active
 /// faces.
 pub(super) fn angle_sum(surface: &Surface, v: usize) -> Option<Real> {
-    let mesh = surface.mesh;
     let mut angle = 0.0;
     for &f in surface.faces_of(v) {
         let f = f as usize;
-        let t = mesh.triangles()[f];
-        let p = mesh.corners(f);
-        let k = t.iter().position(|&x| x as usize == v).unwrap_or(0);
+        let (k, a) = corner_angle(surface, f, v);
         if surface.across(f, k).is_none() || surface.across(f, (k + 2) % 3).is_none() {
             return None;
         }
-        angle += angle_between(&(p[(k + 1) % 3] - p[k]), &(p[(k + 2) % 3] - p[k]));
+        angle += a;
     }
     Some(angle)
+}
+
+/// The corner of face `f` at vertex `v` (its slot in the triangle) and the face's angle
+/// there.
+pub(super) fn corner_angle(surface: &Surface, f: usize, v: usize) -> (usize, Real) {
+    let mesh = surface.mesh;
+    let t = mesh.triangles()[f];
+    let p = mesh.corners(f);
+    let k = t.iter().position(|&x| x as usize == v).unwrap_or(0);
+    let angle = angle_between(&(p[(k + 1) % 3] - p[k]), &(p[(k + 2) % 3] - p[k]));
+    (k, angle)
 }
 
 /// Whether shortest paths may bend at `v`: a boundary vertex, or one whose angles sum to
