@@ -20,9 +20,12 @@
 //!         less those predicted beyond [`PREDICTION_SLACK`] times the limits). At the first
 //!         that meets the limits on the screening samples it bisects upwards, between that
 //!         spacing and the nearest wider spacing tried, which failed, until the bracket is at
-//!         most [`REFINE_TOLERANCE`] of the spacing, then confirms at full resolution from the
-//!         widest spacing the bisection found down to the candidate itself; the first
-//!         confirmed is chosen (when none is, the next candidate follows). When no spacing
+//!         most [`REFINE_TOLERANCE`] of the spacing, then confirms at full resolution: the
+//!         widest spacing the bisection found; when that fails, the middle one of the
+//!         narrower spacings the screening met (the screening was optimistic there, and a
+//!         failure by a hair at the widest is often one at the next too); the last
+//!         confirmation the candidate itself. The first confirmed is chosen (when none is, the
+//!         next candidate follows). When no spacing
 //!         meets the limits, the widest one whose excess `max(E/E_m, δ/δ_m)` is within
 //!         [`FALLBACK_MARGIN`] of the smallest excess seen is chosen (evaluated at full
 //!         resolution), not simply the closest one, which is often the narrowest.
@@ -39,7 +42,8 @@ pub const PREDICTED_WINDOWS: usize = 4;
 pub const PREDICTION_STEPS: usize = 256;
 /// Most bisections above the feasible spacing.
 pub const REFINE_STEPS: usize = 6;
-/// Most full-fidelity evaluations confirming the refined spacing.
+/// Most full-fidelity evaluations confirming a screened candidate (the last of them the
+/// candidate itself).
 pub const CONFIRM_STEPS: usize = 3;
 /// Refinement stops once the bracket above the feasible spacing is at most this fraction
 /// of it.
@@ -229,9 +233,25 @@ pub fn search_spacing(
             .map(|it| it.spacing)
             .collect();
         confirm.sort_by(|x, y| y.total_cmp(x));
-        confirm.truncate(CONFIRM_STEPS.saturating_sub(1));
         confirm.push(b);
-        for c in confirm {
+        // The widest first; after a failure, the middle of the narrower ones (the
+        // screening was optimistic there, and may be so at the next one too); the last
+        // confirmation is the candidate itself. Each round tries a narrower spacing, so
+        // this ends.
+        let last = confirm.len() - 1;
+        let mut from = 0;
+        for left in (1..=CONFIRM_STEPS).rev() {
+            if from > last {
+                break;
+            }
+            let k = if left == 1 {
+                last
+            } else if from == 0 {
+                0
+            } else {
+                (from + last) / 2
+            };
+            let c = confirm[k];
             if run(c, Fidelity::Full, &mut iterations)? {
                 return Ok(SpacingChoice {
                     spacing: c,
@@ -239,6 +259,7 @@ pub fn search_spacing(
                     iterations,
                 });
             }
+            from = k + 1;
         }
     }
     let excess = |it: &Iteration| {
@@ -328,4 +349,96 @@ fn candidates(lo: Real, hi: Real, predict: &dyn Fn(Real) -> Real) -> Vec<Real> {
     list.sort_by(|a, b| b.total_cmp(a));
     list.dedup_by(|b, a| (*a - *b).abs() <= SAME_SPACING * *a);
     list
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs the search on `[0.03, 0.25]` with `δ ≤ 0.2`, every spacing predicted feasible,
+    /// `δ = coarse(b)` on the screening samples and `full(b)` on the full ones.
+    fn search(coarse: impl Fn(Real) -> Real, full: impl Fn(Real) -> Real) -> SpacingChoice {
+        let limits = Limits {
+            max_std_dev: None,
+            max_error: Some(0.2),
+        };
+        let stats = |error: Real| ThicknessStats {
+            mean: 1.0,
+            error,
+            ..Default::default()
+        };
+        search_spacing(
+            0.03,
+            0.25,
+            &limits,
+            true,
+            &|_| 0.5,
+            &mut |b, fidelity| {
+                Ok(match fidelity {
+                    Fidelity::Coarse => (stats(coarse(b)), 2.0),
+                    Fidelity::Full => (stats(full(b)), 1.0),
+                })
+            },
+            &mut |_| {},
+        )
+        .unwrap()
+    }
+
+    /// The screening meets the limits up to 0.215 and the full samples up to 0.205: the
+    /// widest refined spacing fails at full resolution, and the next confirmation is the
+    /// middle of the narrower ones screened as met, which holds; the narrowest, the candidate
+    /// itself, is not needed (trying the refined spacings in order would have failed twice
+    /// and ended at the candidate, 0.187).
+    #[test]
+    fn a_failed_confirmation_is_followed_by_the_middle_of_the_narrower_spacings() {
+        let c = search(|b| b - 0.015, |b| b - 0.005);
+        let screened = |b: Real| b - 0.015 <= 0.2;
+        // The even scan: 0.25, 0.2186 fail, 0.1871 = 0.03 + 0.22·5/7 is the candidate;
+        // bisected upwards towards 0.2186: 0.2029, 0.2107, 0.2146 met, 0.2166 not.
+        let (b, upper) = (0.03 + 0.22 * 5.0 / 7.0, 0.03 + 0.22 * 6.0 / 7.0);
+        let coarse: Vec<Real> = c
+            .iterations
+            .iter()
+            .filter(|it| !it.full)
+            .map(|it| it.spacing)
+            .collect();
+        assert_eq!(coarse.len(), 7, "{coarse:?}");
+        for it in c.iterations.iter().filter(|it| !it.full) {
+            assert_eq!(it.met, screened(it.spacing), "{it:?}");
+        }
+        let full: Vec<Real> = c
+            .iterations
+            .iter()
+            .filter(|it| it.full)
+            .map(|it| it.spacing)
+            .collect();
+        let mid = 0.5 * (b + upper);
+        assert_eq!(full.len(), 2, "{full:?}");
+        assert!(
+            (full[0] - 0.5 * (0.5 * (mid + upper) + upper)).abs() < 1e-12,
+            "{full:?}"
+        );
+        assert!((full[1] - mid).abs() < 1e-12, "{full:?}");
+        assert!(c.met && c.spacing == full[1], "{c:?}");
+    }
+
+    /// When the screening is optimistic everywhere, each candidate gets at most
+    /// [`CONFIRM_STEPS`] confirmations, the last of them the candidate itself, and the
+    /// spacing chosen meets the limits at full resolution.
+    #[test]
+    fn confirmations_are_bounded_and_the_choice_meets_the_limits_at_full_resolution() {
+        let c = search(|b| b, |b| b + 0.03);
+        assert!(c.met && c.spacing <= 0.17, "{c:?}");
+        let mut run = 0;
+        for it in &c.iterations {
+            if it.full {
+                run += 1;
+                assert!(run <= CONFIRM_STEPS, "{:?}", c.iterations);
+            } else {
+                run = 0;
+            }
+        }
+        let last = c.iterations.last().unwrap();
+        assert!(last.full && last.met && last.spacing == c.spacing);
+    }
 }
