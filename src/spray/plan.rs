@@ -11,7 +11,9 @@
 //!         With quality limits, a second sample set at [`COARSE_RESOLUTION_RATIO`] times the
 //!         resolution serves the search's screening when it has at most half the samples
 //!         (on a mesh finer than the resolution, the full samples thinned to one per cube of
-//!         that size). On such a mesh the speed optimiser also solves on the full samples
+//!         that size; on one a little coarser, whose faces get samples closer than the cell
+//!         along their shorter edges, those thinned samples too when they are half as many
+//!         and the cube is small beside the footprint). On such a mesh the speed optimiser also solves on the full samples
 //!         thinned to one per cube of the resolution, and the speeds found are then deposited
 //!         on all of them: the figures are always those of every sample.
 //! Deviations: the patent keeps the speed constant; here, by default, the speed of each short
@@ -43,6 +45,14 @@ pub const COARSE_RESOLUTION_RATIO: Real = 2.0;
 /// The coarse scan is used only when its samples are at most this fraction of the full ones
 /// (on a mesh coarser than the resolution both are the mesh's own vertices).
 const COARSE_SAMPLE_FRACTION: Real = 0.5;
+/// Coarse samples more than this many per cell² of area are thinned from the full ones
+/// instead when that halves them, if the cell is at most [`COARSE_THINNED_CELL_RATIO`]·R
+/// (one sample a cube stands for its cube's coating only where the cube is small beside
+/// the spray's footprint).
+const COARSE_DENSITY: Real = 2.0;
+/// Largest coarse cell, as a fraction of `R`, whose cubes thinned samples may stand for
+/// (the default resolution's coarse cell is R/4).
+const COARSE_THINNED_CELL_RATIO: Real = 0.25 * (1.0 + 1e-9);
 /// The speed optimiser solves on the samples thinned to the resolution only when that
 /// leaves at most this fraction of them.
 const SOLVE_SAMPLE_FRACTION: Real = 0.25;
@@ -459,10 +469,27 @@ pub fn plan_spray(
             )?;
             let fewer = (c.samples.positions.len() as Real)
                 <= COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real;
-            if fewer {
-                Some(c)
-            } else {
+            // On a mesh a little coarser than the cell, a face's longest edge sets its
+            // subdivisions and its shorter ones get samples closer than the cell: the full
+            // samples thinned to the cell may then be markedly fewer.
+            let area: Real = full.samples.weights.iter().sum();
+            let dense = cell <= COARSE_THINNED_CELL_RATIO * resolved.radius
+                && c.samples.positions.len() as Real > COARSE_DENSITY * area / (cell * cell);
+            let thinned = if dense || !fewer {
                 full.thinned(cell, resolved.radius)
+            } else {
+                None
+            };
+            match thinned {
+                Some(t)
+                    if !fewer
+                        || (t.samples.positions.len() as Real)
+                            <= COARSE_SAMPLE_FRACTION * c.samples.positions.len() as Real =>
+                {
+                    Some(t)
+                }
+                _ if fewer => Some(c),
+                _ => None,
             }
         } else {
             // The coarse samples would be the mesh's vertices: thin the full ones instead.
