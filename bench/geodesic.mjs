@@ -15,8 +15,9 @@
 // marching's the median of as many solves by one solver: single runs on a shared machine
 // vary by a third. Three times per method: `cold`, the first call in a fresh process (it runs
 // partly in the engine's baseline code and compiles meanwhile); `page`, the first call after
-// the warm-up the page's worker runs once a model is open (www/worker/warm-up.js: the Paths
-// tool's first distance on a model); `warm`, the same call made again in the process, once
+// the warm-up the page's worker runs once a model is open and the memory reservation the
+// Paths tool asks for when it is opened (www/worker/warm-up.js: the Paths tool's first
+// distance on a model); `warm`, the same call made again in the process, once
 // the engine has compiled the hot code to optimised machine code and the memory is grown.
 // `exact` is skipped above GEODESIC_EXACT_MAX triangles (default 100 000; it takes minutes
 // there: n^1.6 growth). Fast marching: potpourri3d 1.4.0 `MeshFastMarchingDistanceSolver` on the
@@ -153,12 +154,17 @@ function errors(positions, distance, exact) {
 
 /** Child process: one method on one case, first after the page's warm-up when `page`. */
 async function runCase(shape, target, method, page) {
-  const { initSync, Mesh } = await import(join(root, 'dist/pkg/skinpath.js'));
+  const { initSync, Mesh, reserveMemory } = await import(join(root, 'dist/pkg/skinpath.js'));
   initSync({ module: readFileSync(join(root, 'dist/pkg/skinpath_bg.wasm')) });
   const mesh3 = SHAPES[shape](target);
   const mesh = Mesh.fromStl(toBinaryStl(mesh3));
-  // As in the page: the model is open, then the worker warms up while the user looks at it.
-  if (page) (await import(join(root, 'dist/worker/warm-up.js'))).warmUp(Mesh);
+  // As in the page: the model is open, then the worker warms up while the user looks at it,
+  // and the Paths tool, once opened, has the memory of its first distance reserved.
+  if (page) {
+    const { warmUp, reserveFirstDistance } = await import(join(root, 'dist/worker/warm-up.js'));
+    warmUp(Mesh);
+    reserveFirstDistance(reserveMemory, mesh.triangleCount);
+  }
   const positions = mesh.positions();
   let source = { boundaryOf: 'mesh' };
   if (shape === 'section') {
@@ -252,7 +258,7 @@ export async function main() {
     '\n  Time: geodesicDistance alone (WebAssembly in Node); fast marching: potpourri3d 1.4.0, native, solve' +
     ' (and setup + solve); ×FMM: time / fast-marching solve time.' +
     `\n  Times: medians of ${RUNS} runs (GEODESIC_CURVED_RUNS), each of ours in a fresh process (cold: the first call there;` +
-    ' page: the first call after the page\'s warm-up, www/worker/warm-up.js; warm: the same call again), fast marching\'s by one solver.');
+    ' page: the first call after the page\'s warm-up and the Paths tool\'s memory reservation, www/worker/warm-up.js; warm: the same call again), fast marching\'s by one solver.');
   const fmm = potpourri();
   if (fmm.why) console.log(`  fast marching column left out: ${fmm.why}.`);
   console.log('shape    triangles  method          cold ms   ×FMM  page ms   ×FMM  warm ms   ×FMM   max err mm  mean err mm');

@@ -118,3 +118,32 @@ pub(crate) fn progress_fn(callback: Option<js_sys::Function>) -> impl FnMut(&str
         }
     }
 }
+
+/// Most bytes [`reserve_memory`] takes (WebAssembly's 32-bit memory holds 4 GiB at most).
+const MAX_RESERVE_BYTES: f64 = 4_294_967_296.0;
+
+/// Grows the engine's memory now so that `bytes` more can be allocated without growing it
+/// again: a block of that size is allocated, written once and freed. WebAssembly memory never
+/// shrinks and the allocator keeps freed pages for the next allocations; what costs is the
+/// first write to fresh memory (the system hands each page over zeroed then), and that is
+/// paid here. The Paths tool asks for what its first distance on the open model will take
+/// (www/worker/warm-up.js), so that the distance does not wait on it. Returns false, and
+/// changes nothing, when that much memory cannot be had.
+#[wasm_bindgen(js_name = reserveMemory)]
+pub fn reserve_memory(bytes: f64) -> Result<bool, JsError> {
+    if !(bytes.is_finite() && (0.0..=MAX_RESERVE_BYTES).contains(&bytes)) {
+        return Err(JsError::new(&format!(
+            "reserveMemory: bytes must be a number from 0 to {} (4 GiB), got {}",
+            crate::math::Compact(MAX_RESERVE_BYTES),
+            crate::math::Compact(bytes)
+        )));
+    }
+    let mut block: Vec<u8> = Vec::new();
+    if block.try_reserve_exact(bytes as usize).is_err() {
+        return Ok(false);
+    }
+    // Every page written once (zero, as the allocator would have it for a calloc).
+    block.resize(bytes as usize, 0);
+    std::hint::black_box(&block);
+    Ok(true)
+}

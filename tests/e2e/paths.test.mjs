@@ -26,6 +26,8 @@ function cylinderStl(around, along) {
 }
 
 let app;
+/** The engine's memory shown with the model before the tool was opened. */
+let memoryBefore;
 before(async () => {
   app = await openAppWithSample();
   const { page } = app;
@@ -33,6 +35,7 @@ before(async () => {
   await waitForModel(page, 'cylinder.stl');
   await page.selectOption('#unit-select', 'mm');
   await waitForReady(page);
+  memoryBefore = await page.textContent('#stat-memory');
   await page.click('#tab-paths');
 });
 after(async () => {
@@ -57,6 +60,20 @@ async function purplePixels(page) {
 }
 
 const rows = (page) => page.locator('#paths-table tbody tr');
+
+/** Bytes of a figure such as "45.2 MiB" (www/app/format.js bytesText). */
+function bytesOf(text) {
+  const m = /([\d.]+)\s*(KiB|MiB|GiB)/.exec(text.replace(/,/g, ''));
+  assert.ok(m, `a memory figure: ${text}`);
+  return Number(m[1]) * 1024 ** { KiB: 1, MiB: 2, GiB: 3 }[m[2]];
+}
+
+test('opening the tool has the engine reserve the memory of its first distance (at least 32 MiB), shown with the model', async () => {
+  const { page } = app;
+  await page.waitForFunction((t) => document.getElementById('stat-memory').textContent !== t, memoryBefore);
+  const [was, now] = [bytesOf(memoryBefore), bytesOf(await page.textContent('#stat-memory'))];
+  assert.ok(now > was, `${memoryBefore} → ${await page.textContent('#stat-memory')}`);
+});
 
 test('a section plane z = 60 gives closed rings 10 mm apart, listed, drawn and coloured', async () => {
   const { page } = app;

@@ -358,6 +358,15 @@ class PathsTool {
     this.#showLayers(true);
     this.#drawMarks();
     this.#validate();
+    // The engine takes the memory of the first distance while the source is set up (nothing
+    // is lost when it cannot: the distance takes it then); the model's figures show it.
+    const shell = this.#shell;
+    if (shell.engine?.hasMesh) {
+      shell.engine.request('paths.prepare').then(({ memoryBytes }) => {
+        shell.state.memoryBytes = memoryBytes;
+        shell.refreshUnits();
+      }, () => {});
+    }
   }
 
   onDeactivate() {

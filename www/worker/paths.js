@@ -2,19 +2,27 @@
 // section plane, a boundary loop) by the accurate, the exact, the fast or the voxel method, its iso-distance passes,
 // and the tool-path exports. Keeps the last DistanceField for the exports. Protocol and
 // `ctx`: see worker.js. Lengths arrive and leave in the file's units.
+import { reserveMemory } from '../pkg/skinpath.js';
 import { exportTexts, packageFiles } from './programs.js';
+import { reserveFirstDistance } from './warm-up.js';
 
 const METHOD_NAMES = { accurate: 'Accurate', exact: 'Exact', fast: 'Fast', mesh: 'Fast', voxel: 'Voxel' };
 
-export const doing = { compute: 'computing the geodesic distance', exportPaths: 'writing the path program' };
+export const doing = {
+  prepare: 'preparing for the first distance',
+  compute: 'computing the geodesic distance',
+  exportPaths: 'writing the path program',
+};
 
 let field = null; // DistanceField of the result on screen
 let pathSpec = null; // { spacing, pathOptions } it was cut with
+let prepared = false; // whether the memory of the model's first distance is reserved
 
 export function onMeshChanged() {
   field?.free();
   field = null;
   pathSpec = null;
+  prepared = false;
 }
 
 /** Flattens iso-paths into one transferable array and a table of { level, distance, closed, start, count }. */
@@ -54,6 +62,17 @@ function boxCentre(ctx) {
 }
 
 export const ops = {
+  /**
+   * {} → { reserved, memoryBytes }: grows the engine's memory by what the model's first
+   * accurate distance will take (see warm-up.js), once per model; the tool asks when it is
+   * opened.
+   */
+  prepare(ctx) {
+    const reserved = prepared || reserveFirstDistance(reserveMemory, ctx.mesh.triangleCount);
+    prepared = true;
+    return [{ reserved, memoryBytes: ctx.memoryBytes() }, []];
+  },
+
   /**
    * { source: { kind: 'plane', point|null, normal } | { kind: 'boundary', loop? }
    *   | { kind: 'points', points (flat xyz), closed }, patchId|null,

@@ -84,3 +84,26 @@ export function warmUp(Mesh) {
   }
   return performance.now() - start;
 }
+
+/**
+ * Bytes per triangle of the model that the accurate method's first distance grows the engine's
+ * memory by at most, opened as in the page and warmed up (measured: 74–75 on the bench's caps
+ * and spheres of 500k and 2M triangles, 100–112 on latitude–longitude caps of 200k–600k, 111
+ * on the bench's 1M aircraft from a plane section); and the least reserved whatever the model
+ * (the wing-body sample, 80k triangles, grows by 18 MB: its sharp edges and small patches
+ * take more per triangle).
+ */
+export const FIRST_DISTANCE_BYTES_PER_TRIANGLE = 120;
+export const FIRST_DISTANCE_LEAST_BYTES = 32 * 2 ** 20;
+
+/**
+ * Grows the engine's memory by what the Paths tool's first distance on a model of
+ * `triangles` triangles will take (see `reserveMemory` in the engine): writing fresh memory
+ * for the first time is about a seventh of that distance's time on a 500k-triangle panel,
+ * paid here while the user sets up the source. `reserveMemory` is the engine's export.
+ * Returns whether the memory could be had (nothing is lost when not: the distance grows it
+ * as before).
+ */
+export function reserveFirstDistance(reserveMemory, triangles) {
+  return reserveMemory(Math.max(FIRST_DISTANCE_LEAST_BYTES, FIRST_DISTANCE_BYTES_PER_TRIANGLE * triangles));
+}
