@@ -16,6 +16,7 @@ mod plan;
 mod quality;
 mod raster;
 mod samples;
+mod sampling;
 mod search;
 mod speed;
 mod trajectory;
@@ -29,14 +30,15 @@ pub use params::{
     QualityLimits, Resolved, SprayError, SprayParams, MAX_PLANES, MAX_SAMPLES, MAX_TIME_SAMPLES,
 };
 pub use plan::{
-    cycle_time, plan_spray, DirectionTrial, Hotspot, HotspotCause, SprayPlan,
-    COARSE_RESOLUTION_RATIO, MAX_HOTSPOTS, TARGET_TOLERANCE,
+    cycle_time, plan_spray, DirectionTrial, Hotspot, HotspotCause, SprayPlan, MAX_HOTSPOTS,
+    TARGET_TOLERANCE,
 };
 pub use quality::{evaluate_quality, interior_mask, thickness_stats, Quality, ThicknessStats};
 pub use raster::{
     order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass, ARC_BINS, MAX_STRETCH,
 };
 pub use samples::{fit_resolution, sample_faces, EvaluationSamples};
+pub use sampling::COARSE_RESOLUTION_RATIO;
 pub use search::{
     ripple, search_spacing, Fidelity, Iteration, Limits, SpacingChoice, COARSE_STEPS,
     FALLBACK_MARGIN, PREDICTED_WINDOWS, PREDICTION_STEPS, REFINE_STEPS, REFINE_TOLERANCE,

@@ -5,17 +5,10 @@
 //! Input:  mesh, adjacency, face geometry, selected face ids, [`SprayParams`].
 //! Output: [`SprayPlan`]: the tool path with its speeds, evaluation samples with their
 //!         thickness, quality, every spacing tried, the worst regions and what would help.
-//! Cost:   samples and their grids once; per spacing tried O(F + S log S) for the raster,
-//!         O(time samples × points per cone) for the deposition and, with speed optimisation,
-//!         the coating matrix and its sweeps ([`optimise_speeds`]).
-//!         With quality limits, a second sample set at [`COARSE_RESOLUTION_RATIO`] times the
-//!         resolution serves the search's screening when it has at most half the samples
-//!         (on a mesh finer than the resolution, the full samples thinned to one per cube of
-//!         that size; on one a little coarser, whose faces get samples closer than the cell
-//!         along their shorter edges, those thinned samples too when they are half as many
-//!         and the cube is small beside the footprint). On such a mesh the speed optimiser also solves on the full samples
-//!         thinned to one per cube of the resolution, and the speeds found are then deposited
-//!         on all of them: the figures are always those of every sample.
+//! Cost:   samples and their grids once ([`sample_sets`]: the full samples, the search's
+//!         screening samples, the speed optimiser's); per spacing tried O(F + S log S) for
+//!         the raster, O(time samples × points per cone) for the deposition and, with speed
+//!         optimisation, the coating matrix and its sweeps ([`optimise_speeds`]).
 //! Deviations: the patent keeps the speed constant; here, by default, the speed of each short
 //!         piece of path is optimised within `[minSpeed, maxSpeed]` ([`optimise_speeds`]),
 //!         towards `targetThickness` when given. Without speed optimisation, `targetThickness`
@@ -25,11 +18,11 @@
 //!         is tried at the chosen spacing too (no paper).
 
 use super::deposition::{deposit_except, SprayModel};
-use super::grid::PointGrid;
 use super::params::{SprayError, SprayParams};
 use super::quality::{evaluate_quality, interior_mask, Quality, ThicknessStats};
 use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame};
-use super::samples::{fit_resolution, sample_faces, subdivides, EvaluationSamples};
+use super::samples::{fit_resolution, EvaluationSamples};
+use super::sampling::{sample_sets, Sampling};
 use super::search::{ripple, search_spacing, Fidelity, Iteration, Limits, FALLBACK_MARGIN};
 use super::speed::{optimise_speeds, SpeedLimits};
 use super::trajectory::{build_trajectory, TrajectoryCounts, TURN_ON_RADIUS_RATIO};
@@ -37,25 +30,6 @@ use crate::math::{angle_between, Compact, Point3, Real, Vector3};
 use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
 use crate::toolpath::ToolPath;
 
-/// Cell size of the evaluation-sample grid as a fraction of `R`: small enough that a cone's
-/// box visits few points outside the cone, large enough that it visits few empty cells.
-const GRID_CELL_RATIO: Real = 0.5;
-/// The spacing search's coarse scan samples at this multiple of the evaluation resolution.
-pub const COARSE_RESOLUTION_RATIO: Real = 2.0;
-/// The coarse scan is used only when its samples are at most this fraction of the full ones
-/// (on a mesh coarser than the resolution both are the mesh's own vertices).
-const COARSE_SAMPLE_FRACTION: Real = 0.5;
-/// Coarse samples more than this many per cell² of area are thinned from the full ones
-/// instead when that halves them, if the cell is at most [`COARSE_THINNED_CELL_RATIO`]·R
-/// (one sample a cube stands for its cube's coating only where the cube is small beside
-/// the spray's footprint).
-const COARSE_DENSITY: Real = 2.0;
-/// Largest coarse cell, as a fraction of `R`, whose cubes thinned samples may stand for
-/// (the default resolution's coarse cell is R/4).
-const COARSE_THINNED_CELL_RATIO: Real = 0.25 * (1.0 + 1e-9);
-/// The speed optimiser solves on the samples thinned to the resolution only when that
-/// leaves at most this fraction of them.
-const SOLVE_SAMPLE_FRACTION: Real = 0.25;
 /// A target thickness counts as reached when the interior mean is within this fraction.
 pub const TARGET_TOLERANCE: Real = 0.02;
 /// Two directions whose scores differ by less than this fraction count as equally good
@@ -167,105 +141,6 @@ struct Evaluation {
     empty_interior: bool,
     /// The constant speed (nominal, or scaled for the target without optimisation).
     speed: Real,
-}
-
-/// Evaluation samples at one resolution, their grid and interior mask.
-struct Sampling {
-    resolution: Real,
-    samples: EvaluationSamples,
-    grid: PointGrid,
-    interior: Vec<bool>,
-    /// For samples thinned from others: the index of each among those.
-    origin: Vec<usize>,
-    /// The same samples thinned to one per cube of the resolution, when that leaves at most
-    /// [`SOLVE_SAMPLE_FRACTION`] of them (a mesh finer than the resolution): the speed
-    /// optimiser solves on these, and the plan's speeds are then deposited on all samples.
-    solve: Option<Box<Sampling>>,
-    /// Per sample: whether it is one of `solve`'s (its thickness comes from the optimiser).
-    solved: Vec<bool>,
-}
-
-impl Sampling {
-    /// The samples thinned to one per cube of side `cell`, when markedly fewer.
-    fn thinned(&self, cell: Real, radius: Real) -> Option<Sampling> {
-        let (samples, origin) = self.samples.thinned(cell, &self.interior);
-        let fewer = samples.positions.len() as Real
-            <= COARSE_SAMPLE_FRACTION * self.samples.positions.len() as Real;
-        fewer.then(|| Sampling {
-            resolution: cell,
-            grid: PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius),
-            interior: origin.iter().map(|&i| self.interior[i]).collect(),
-            origin,
-            samples,
-            solve: None,
-            solved: Vec::new(),
-        })
-    }
-
-    /// Gives the speed optimiser the samples thinned to one per cube of the resolution where
-    /// that leaves at most [`SOLVE_SAMPLE_FRACTION`] of them: samples several times denser
-    /// than the resolution in each direction, so every cube keeps one and the thinned set
-    /// has no holes (a lattice at about the resolution, thinned at its own spacing, would).
-    fn with_solve_samples(mut self, radius: Real) -> Sampling {
-        // Each cube the surface meets keeps a sample, and a surface flat at the cubes' scale
-        // meets at least its area over √2·cell² of them (a cube's largest plane section):
-        // where that alone is over the fraction (a mesh coarser than the resolution, whose
-        // samples lie about one a cube), thinning is not tried.
-        let area: Real = self.samples.weights.iter().sum();
-        let cell = self.resolution;
-        if area / (std::f64::consts::SQRT_2 * cell * cell)
-            > SOLVE_SAMPLE_FRACTION * self.samples.positions.len() as Real
-        {
-            return self;
-        }
-        self.solve = self
-            .thinned(self.resolution, radius)
-            .filter(|t| {
-                t.samples.positions.len() as Real
-                    <= SOLVE_SAMPLE_FRACTION * self.samples.positions.len() as Real
-            })
-            .map(Box::new);
-        if let Some(solve) = &self.solve {
-            self.solved = vec![false; self.samples.positions.len()];
-            for &i in &solve.origin {
-                self.solved[i] = true;
-            }
-        }
-        self
-    }
-
-    fn new(
-        mesh: &TriMesh,
-        adjacency: &FaceAdjacency,
-        geometry: &FaceGeometry,
-        frame: &PatchFrame,
-        resolution: Real,
-        radius: Real,
-        edge_exclusion: Real,
-    ) -> Result<Sampling, SprayError> {
-        let samples = sample_faces(mesh, adjacency, geometry, &frame.faces, resolution)?;
-        // Samples stored cell by cell, so a cone's box reads them from few cache lines.
-        let grid = PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius);
-        let samples = samples.permuted(grid.order());
-        let grid = grid.reordered();
-        let interior = interior_mask(
-            mesh,
-            adjacency,
-            &frame.faces,
-            &frame.selected,
-            &samples.positions,
-            edge_exclusion,
-        );
-        Ok(Sampling {
-            resolution,
-            samples,
-            grid,
-            interior,
-            origin: Vec::new(),
-            solve: None,
-            solved: Vec::new(),
-        })
-    }
 }
 
 /// Everything that does not depend on the spacing.
@@ -445,62 +320,15 @@ pub fn plan_spray(
     if let Some(budget) = params.sample_budget {
         resolved.resolution = fit_resolution(mesh, &frame.faces, resolved.resolution, budget);
     }
-    let mut full = Sampling::new(
+    let (full, coarse) = sample_sets(
         mesh,
         adjacency,
         geometry,
         &frame,
-        resolved.resolution,
-        resolved.radius,
-        resolved.edge_exclusion,
+        &resolved,
+        params.has_limits(),
+        params.optimise_speed,
     )?;
-    // The coarse samples, when they are markedly fewer.
-    let coarse = if params.has_limits() {
-        let cell = COARSE_RESOLUTION_RATIO * resolved.resolution;
-        if subdivides(mesh, &frame.faces, cell) {
-            let c = Sampling::new(
-                mesh,
-                adjacency,
-                geometry,
-                &frame,
-                cell,
-                resolved.radius,
-                resolved.edge_exclusion,
-            )?;
-            let fewer = (c.samples.positions.len() as Real)
-                <= COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real;
-            // On a mesh a little coarser than the cell, a face's longest edge sets its
-            // subdivisions and its shorter ones get samples closer than the cell: the full
-            // samples thinned to the cell may then be markedly fewer.
-            let area: Real = full.samples.weights.iter().sum();
-            let dense = cell <= COARSE_THINNED_CELL_RATIO * resolved.radius
-                && c.samples.positions.len() as Real > COARSE_DENSITY * area / (cell * cell);
-            let thinned = if dense || !fewer {
-                full.thinned(cell, resolved.radius)
-            } else {
-                None
-            };
-            match thinned {
-                Some(t)
-                    if !fewer
-                        || (t.samples.positions.len() as Real)
-                            <= COARSE_SAMPLE_FRACTION * c.samples.positions.len() as Real =>
-                {
-                    Some(t)
-                }
-                _ if fewer => Some(c),
-                _ => None,
-            }
-        } else {
-            // The coarse samples would be the mesh's vertices: thin the full ones instead.
-            full.thinned(cell, resolved.radius)
-        }
-    } else {
-        None
-    };
-    if params.optimise_speed {
-        full = full.with_solve_samples(resolved.radius);
-    }
     progress("spray samples", 1.0);
     let limits = params
         .quality

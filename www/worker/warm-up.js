@@ -89,11 +89,11 @@ export function warmUp(Mesh) {
  * Bytes per triangle of the model that the accurate method's first distance grows the engine's
  * memory by at most, opened as in the page and warmed up (measured: 74–75 on the bench's caps
  * and spheres of 500k and 2M triangles, 100–112 on latitude–longitude caps of 200k–600k, 111
- * on the bench's 1M aircraft from a plane section); and the least reserved whatever the model
- * (the wing-body sample, 80k triangles, grows by 18 MB: its sharp edges and small patches
- * take more per triangle).
+ * on the bench's 1M aircraft from a plane section). Small real models take more per triangle
+ * (the wing-body sample, 80k triangles, grows by 18 MB: its sharp edges and small patches).
  */
 export const FIRST_DISTANCE_BYTES_PER_TRIANGLE = 120;
+/** The least reserved for a first distance, whatever the model (see above). */
 export const FIRST_DISTANCE_LEAST_BYTES = 32 * 2 ** 20;
 
 /**

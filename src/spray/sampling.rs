@@ -1,0 +1,206 @@
+//! The evaluation samples of a spray plan: the full set the figures are computed on, the
+//! coarser set the spacing search screens on, and the set the speed optimiser solves on.
+//!
+//! Source: no paper (the patent evaluates the coating on the surface without saying where).
+//! Input:  mesh, adjacency, face geometry, the patch frame, the resolved parameters.
+//! Output: [`Sampling`]s: samples stored cell by cell, their grid and interior mask.
+//! Cost:   the full samples and their grid once; with quality limits, a second set at
+//!         [`COARSE_RESOLUTION_RATIO`] times the resolution serves the search's screening
+//!         when it has at most half the samples (on a mesh finer than the resolution, the
+//!         full samples thinned to one per cube of that size; on one a little coarser, whose
+//!         faces get samples closer than the cell along their shorter edges, those thinned
+//!         samples too when they are half as many and the cube is small beside the
+//!         footprint). On a mesh finer than the resolution the speed optimiser also solves on
+//!         the full samples thinned to one per cube of the resolution, and the speeds found
+//!         are then deposited on all of them: the figures are always those of every sample.
+//! Deviations: none (no paper).
+
+use super::grid::PointGrid;
+use super::params::{Resolved, SprayError};
+use super::quality::interior_mask;
+use super::raster::PatchFrame;
+use super::samples::{sample_faces, subdivides, EvaluationSamples};
+use crate::math::Real;
+use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
+
+/// Cell size of the evaluation-sample grid as a fraction of `R`: small enough that a cone's
+/// box visits few points outside the cone, large enough that it visits few empty cells.
+pub(super) const GRID_CELL_RATIO: Real = 0.5;
+/// The spacing search's coarse scan samples at this multiple of the evaluation resolution.
+pub const COARSE_RESOLUTION_RATIO: Real = 2.0;
+/// The coarse scan is used only when its samples are at most this fraction of the full ones
+/// (on a mesh coarser than the resolution both are the mesh's own vertices).
+const COARSE_SAMPLE_FRACTION: Real = 0.5;
+/// Coarse samples more than this many per cell² of area are thinned from the full ones
+/// instead when that halves them, if the cell is at most [`COARSE_THINNED_CELL_RATIO`]·R
+/// (one sample a cube stands for its cube's coating only where the cube is small beside
+/// the spray's footprint).
+const COARSE_DENSITY: Real = 2.0;
+/// Largest coarse cell, as a fraction of `R`, whose cubes thinned samples may stand for
+/// (the default resolution's coarse cell is R/4).
+const COARSE_THINNED_CELL_RATIO: Real = 0.25 * (1.0 + 1e-9);
+/// The speed optimiser solves on the samples thinned to the resolution only when that
+/// leaves at most this fraction of them.
+const SOLVE_SAMPLE_FRACTION: Real = 0.25;
+
+/// Evaluation samples at one resolution, their grid and interior mask.
+pub(super) struct Sampling {
+    pub(super) resolution: Real,
+    pub(super) samples: EvaluationSamples,
+    pub(super) grid: PointGrid,
+    pub(super) interior: Vec<bool>,
+    /// For samples thinned from others: the index of each among those.
+    pub(super) origin: Vec<usize>,
+    /// The same samples thinned to one per cube of the resolution, when that leaves at most
+    /// [`SOLVE_SAMPLE_FRACTION`] of them (a mesh finer than the resolution): the speed
+    /// optimiser solves on these, and the plan's speeds are then deposited on all samples.
+    pub(super) solve: Option<Box<Sampling>>,
+    /// Per sample: whether it is one of `solve`'s (its thickness comes from the optimiser).
+    pub(super) solved: Vec<bool>,
+}
+
+impl Sampling {
+    /// The samples thinned to one per cube of side `cell`, when markedly fewer.
+    fn thinned(&self, cell: Real, radius: Real) -> Option<Sampling> {
+        let (samples, origin) = self.samples.thinned(cell, &self.interior);
+        let fewer = samples.positions.len() as Real
+            <= COARSE_SAMPLE_FRACTION * self.samples.positions.len() as Real;
+        fewer.then(|| Sampling {
+            resolution: cell,
+            grid: PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius),
+            interior: origin.iter().map(|&i| self.interior[i]).collect(),
+            origin,
+            samples,
+            solve: None,
+            solved: Vec::new(),
+        })
+    }
+
+    /// Gives the speed optimiser the samples thinned to one per cube of the resolution where
+    /// that leaves at most [`SOLVE_SAMPLE_FRACTION`] of them: samples several times denser
+    /// than the resolution in each direction, so every cube keeps one and the thinned set
+    /// has no holes (a lattice at about the resolution, thinned at its own spacing, would).
+    fn with_solve_samples(mut self, radius: Real) -> Sampling {
+        // Each cube the surface meets keeps a sample, and a surface flat at the cubes' scale
+        // meets at least its area over √2·cell² of them (a cube's largest plane section):
+        // where that alone is over the fraction (a mesh coarser than the resolution, whose
+        // samples lie about one a cube), thinning is not tried.
+        let area: Real = self.samples.weights.iter().sum();
+        let cell = self.resolution;
+        if area / (std::f64::consts::SQRT_2 * cell * cell)
+            > SOLVE_SAMPLE_FRACTION * self.samples.positions.len() as Real
+        {
+            return self;
+        }
+        self.solve = self
+            .thinned(self.resolution, radius)
+            .filter(|t| {
+                t.samples.positions.len() as Real
+                    <= SOLVE_SAMPLE_FRACTION * self.samples.positions.len() as Real
+            })
+            .map(Box::new);
+        if let Some(solve) = &self.solve {
+            self.solved = vec![false; self.samples.positions.len()];
+            for &i in &solve.origin {
+                self.solved[i] = true;
+            }
+        }
+        self
+    }
+
+    fn new(
+        mesh: &TriMesh,
+        adjacency: &FaceAdjacency,
+        geometry: &FaceGeometry,
+        frame: &PatchFrame,
+        resolution: Real,
+        radius: Real,
+        edge_exclusion: Real,
+    ) -> Result<Sampling, SprayError> {
+        let samples = sample_faces(mesh, adjacency, geometry, &frame.faces, resolution)?;
+        // Samples stored cell by cell, so a cone's box reads them from few cache lines.
+        let grid = PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius);
+        let samples = samples.permuted(grid.order());
+        let grid = grid.reordered();
+        let interior = interior_mask(
+            mesh,
+            adjacency,
+            &frame.faces,
+            &frame.selected,
+            &samples.positions,
+            edge_exclusion,
+        );
+        Ok(Sampling {
+            resolution,
+            samples,
+            grid,
+            interior,
+            origin: Vec::new(),
+            solve: None,
+            solved: Vec::new(),
+        })
+    }
+}
+
+/// The full samples at the resolution (with the speed optimiser's, when `optimise_speed`) and,
+/// when `screening`, the samples the spacing search screens on, if markedly fewer.
+pub(super) fn sample_sets(
+    mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
+    geometry: &FaceGeometry,
+    frame: &PatchFrame,
+    resolved: &Resolved,
+    screening: bool,
+    optimise_speed: bool,
+) -> Result<(Sampling, Option<Sampling>), SprayError> {
+    let radius = resolved.radius;
+    let at = |resolution: Real| {
+        Sampling::new(
+            mesh,
+            adjacency,
+            geometry,
+            frame,
+            resolution,
+            radius,
+            resolved.edge_exclusion,
+        )
+    };
+    let full = at(resolved.resolution)?;
+    let coarse = if !screening {
+        None
+    } else {
+        let cell = COARSE_RESOLUTION_RATIO * resolved.resolution;
+        if !subdivides(mesh, &frame.faces, cell) {
+            // The coarse samples would be the mesh's vertices: thin the full ones instead.
+            full.thinned(cell, radius)
+        } else {
+            let c = at(cell)?;
+            if (c.samples.positions.len() as Real)
+                > COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real
+            {
+                full.thinned(cell, radius)
+            } else {
+                // On a mesh a little coarser than the cell, a face's longest edge sets its
+                // subdivisions and its shorter ones get samples closer than the cell: the
+                // full samples thinned to the cell may then be markedly fewer.
+                let area: Real = full.samples.weights.iter().sum();
+                let dense = cell <= COARSE_THINNED_CELL_RATIO * radius
+                    && c.samples.positions.len() as Real > COARSE_DENSITY * area / (cell * cell);
+                let fewer = |t: &Sampling| {
+                    t.samples.positions.len() as Real
+                        <= COARSE_SAMPLE_FRACTION * c.samples.positions.len() as Real
+                };
+                match dense.then(|| full.thinned(cell, radius)).flatten() {
+                    Some(t) if fewer(&t) => Some(t),
+                    _ => Some(c),
+                }
+            }
+        }
+    };
+    let full = if optimise_speed {
+        full.with_solve_samples(radius)
+    } else {
+        full
+    };
+    Ok((full, coarse))
+}
