@@ -18,9 +18,10 @@
 // started after a full garbage collection and a pause (see settle), the three interleaved so
 // that load on a shared machine falls on all of them alike. `BENCH_STAGES=1 npm run bench` also
 // prints the median time of each stage, from the progress reports (see stageTimes).
-// Spray cases: a generated cylindrical skin panel, a plate, and a real skin (the wing-body
-// model's largest patch, from the shared test models beside the project; skipped with a word
-// when they are not there); Mesh.fromStl as the yardstick, one planSpray (plan + simulate at
+// Spray cases: a generated cylindrical skin panel, a plate, a real skin (the wing-body
+// model's largest patch) and a whole-aircraft patch planned as the page plans it (the 747's
+// largest patch with the page's sample budget), from the shared test models beside the
+// project (skipped with a word when they are not there); Mesh.fromStl as the yardstick, one planSpray (plan + simulate at
 // one spacing) and one spacing search (maxError 0.2), with the evaluation samples per second
 // of the single plan. `npm run bench -- spray` runs only those.
 // Geodesic cases: an open cylinder R 50 mm × 120 mm (the paper's model 2) with the bottom
@@ -41,10 +42,14 @@ const CASES = [['fuselage', 20_000], ['fuselage', 200_000], ['fuselage', 1_000_0
 const SHAPES = ['fuselage', 'grid', 'fan', 'book', 'aircraft'];
 // A number: the curved panel of about that many triangles; `plate`: the 119k-triangle plate of
 // 2 mm triangles (0.49 m square) searched with maxError 0.10 on 30–250 mm.
-const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000,plate,wingbody").split(",");
+const SPRAY_CASES = (process.env.SPRAY_CASES ?? "20000,100000,500000,plate,wingbody,b747").split(",");
 /** The real skin of the spray cases: the largest patch of the wing-body model (a fuselage skin)
  *  under the paper's segmentation, from the shared test models beside the project. */
 const WINGBODY = join(root, '..', 'shared', 'models', 'wingbody_79868_flow360.stl');
+/** A whole-aircraft patch as the page plans it: the 747's largest patch under the same
+ *  segmentation, with the page's budget of 100,000 evaluation samples (about 96 mm apart). */
+const B747 = join(root, '..', 'shared', 'models', 'b747_14062_flightgear.stl');
+const PAGE_SAMPLE_BUDGET = 100_000;
 const GEODESIC_CASES = (process.env.GEODESIC_CASES ?? "cylinder:200000,cylinder:2000000,wave:500000")
   .split(",").map((c) => { const [shape, size] = c.split(":"); return [shape, Number(size)]; });
 const GEODESIC_VOXEL = Number(process.env.GEODESIC_VOXEL ?? 0.25);
@@ -271,13 +276,15 @@ function plateStl(n, edge) {
 }
 
 async function runSpray(name) {
-  if (name === 'wingbody' && !existsSync(WINGBODY)) return { name, skipped: 'the shared test models (../shared/models) are not beside the project' };
+  const model = { wingbody: WINGBODY, b747: B747 }[name];
+  if (model && !existsSync(model)) return { name, skipped: 'the shared test models (../shared/models) are not beside the project' };
   const { initSync, Mesh } = await import(join(root, 'dist/pkg/skinpath.js'));
   initSync({ module: readFileSync(join(root, 'dist/pkg/skinpath_bg.wasm')) });
   const plate = name === 'plate';
-  const real = name === 'wingbody';
-  const bytes = real ? readFileSync(WINGBODY) : plate ? plateStl(244, 0.002) : panelStl(Number(name));
+  const real = Boolean(model);
+  const bytes = real ? readFileSync(model) : plate ? plateStl(244, 0.002) : panelStl(Number(name));
   const quality = plate ? { maxError: 0.1, minSpacing: 0.03, maxSpacing: 0.25 } : { maxError: 0.2 };
+  const spray = name === 'b747' ? { ...SPRAY, sampleBudget: PAGE_SAMPLE_BUDGET } : SPRAY;
   // The real skin: the paper's segmentation (α 0.35 rad, θmax 1 rad, 10 % area), its largest
   // patch; segmentation is not timed.
   const patchOf = (mesh) => {
@@ -292,7 +299,7 @@ async function runSpray(name) {
   // same load on a shared machine.
   const runs = triangles > 300_000 ? 1 : 5;
   const parse = [], plan = [], search = [];
-  let samples = 0, passes = 0, found = 0, tried = 0, patchFaces = 0;
+  let samples = 0, passes = 0, found = 0, tried = 0, patchFaces = 0, cycle = 0;
   for (let r = 0; r < runs; r++) {
     await settle();
     let t = performance.now();
@@ -301,14 +308,14 @@ async function runSpray(name) {
     const faces = patchOf(mesh);
     patchFaces = faces ? faces.length : triangles;
     t = performance.now();
-    const one = mesh.planSpray(SPRAY, faces);
+    const one = mesh.planSpray(spray, faces);
     plan.push(performance.now() - t);
     samples = one.sampleThickness().length;
     one.free();
     t = performance.now();
-    const best = mesh.planSpray({ ...SPRAY, quality }, faces);
+    const best = mesh.planSpray({ ...spray, quality }, faces);
     search.push(performance.now() - t);
-    passes = best.passCount; found = best.spacing; tried = best.iterations().length;
+    passes = best.passCount; found = best.spacing; tried = best.iterations().length; cycle = best.cycleTime;
     best.free(); mesh.free();
     t = performance.now();
     Mesh.fromStl(bytes).free();
@@ -316,7 +323,7 @@ async function runSpray(name) {
   }
   const [p, q, s] = [median(parse), median(plan), median(search)];
   return { name, triangles: real ? `${patchFaces}/${triangles}` : triangles, fromStl: p, plan: q, search: s, ratio: s / p, samples, samplesPerSecond: samples / (q / 1000),
-    passes, spacing: found, tried };
+    passes, spacing: found, tried, cycle };
 }
 
 /** Open cylinder about z, radius 50, z in [0, 120], about `target` triangles of even shape;
@@ -537,8 +544,9 @@ if (geodesicArg > 0) {
   }
   if ((!chosen.length && !only) || args.includes('spray')) {
     console.log('\nspray on a curved panel (2 × 2.5 m, page defaults; search with maxError 0.2), on a plate of 2 mm triangles (0.49 m square; maxError 0.10 on 30–250 mm)' +
-      ' and on a real skin (the wing-body model\'s largest patch, a fuselage skin: patch/model triangles; page defaults, maxError 0.2; fromStl of the whole model)');
-    console.log('      triangles   fromStl ms   plan ms   search ms  search/fromStl  eval samples  samples/s (plan)  passes  spacing m  tried');
+      ' and on a real skin (the wing-body model\'s largest patch, a fuselage skin: patch/model triangles; page defaults, maxError 0.2; fromStl of the whole model)' +
+      `; 747: the 747's largest patch with the page's sampleBudget of ${PAGE_SAMPLE_BUDGET}`);
+    console.log('      triangles   fromStl ms   plan ms   search ms  search/fromStl  eval samples  samples/s (plan)  passes  spacing m  cycle s  tried');
     for (const size of SPRAY_CASES) {
       const out = execFileSync(process.execPath, ['--expose-gc', '--max-old-space-size=8192',
         fileURLToPath(import.meta.url), '--spray', String(size)], { encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
@@ -547,11 +555,12 @@ if (geodesicArg > 0) {
         console.log(`${r.name.padEnd(15)}  skipped: ${r.skipped}`);
         continue;
       }
-      const label = r.name === 'plate' ? 'plate' : r.name === 'wingbody' ? 'skin' : 'panel';
+      const label = { plate: 'plate', wingbody: 'skin', b747: '747' }[r.name] ?? 'panel';
       // The triangle count (patch/model for the skin) right-aligned in 15 columns.
       console.log(`${label.padEnd(15 - String(r.triangles).length)}${r.triangles}  ${r.fromStl.toFixed(1).padStart(11)}  ${r.plan.toFixed(1).padStart(8)}` +
         `  ${r.search.toFixed(1).padStart(10)}  ${r.ratio.toFixed(1).padStart(14)}  ${String(r.samples).padStart(12)}` +
-        `  ${r.samplesPerSecond.toFixed(0).padStart(16)}  ${String(r.passes).padStart(6)}  ${r.spacing.toFixed(4).padStart(9)}  ${String(r.tried).padStart(5)}`);
+        `  ${r.samplesPerSecond.toFixed(0).padStart(16)}  ${String(r.passes).padStart(6)}  ${r.spacing.toFixed(4).padStart(9)}  ${r.cycle.toFixed(1).padStart(7)}` +
+        `  ${String(r.tried).padStart(5)}`);
     }
   }
   if ((!chosen.length && !only) || args.includes('geodesic')) {

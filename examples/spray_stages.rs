@@ -5,6 +5,8 @@
 //! Environment: `MAX_ERROR`, `MIN_SPACING`, `MAX_SPACING` set the search's limits (default
 //! maxError 0.2); `CPU_TIME=1` reports process CPU time (steadier than wall time on a shared
 //! machine; Linux); `ONLY_PLAN=1` stops after the single plan, `ONLY_SEARCH=1` skips it.
+//! Each plan's line ends with a fingerprint of its results bit for bit (thickness, samples,
+//! poses and speeds, figures, spacings tried), so that two builds can be compared.
 
 use skinpath::mesh::{orient_consistently, read_stl, FaceAdjacency, FaceGeometry};
 use skinpath::segment::{segment, SegmentParams};
@@ -62,6 +64,7 @@ fn main() {
             faces.len(), plan.samples.positions.len(), plan.spacing, plan.pass_count, plan.cycle_time, plan.spray_length, plan.iterations.len(),
             i.error, i.std_dev * 1e6, i.mean * 1e6, w.error, w.std_dev * 1e6, w.min * 1e6, w.max * 1e6
         );
+        println!("  fingerprint {:016x}", fingerprint(plan));
     };
     let cpu = std::env::var_os("CPU_TIME").is_some();
     // `ONLY_SEARCH=1` skips the single plan.
@@ -194,6 +197,50 @@ fn where_extremes(plan: &SprayPlan, across: &skinpath::math::Vector3) {
             );
         }
     }
+}
+
+/// FNV-1a (64 bit) over a plan's results, bit for bit.
+fn fingerprint(plan: &SprayPlan) -> u64 {
+    let (i, w) = (plan.quality.interior, plan.quality.whole);
+    let figures = [
+        plan.spacing,
+        plan.speed,
+        plan.cycle_time,
+        plan.spray_length,
+        i.mean,
+        i.std_dev,
+        i.error,
+        w.mean,
+        w.std_dev,
+        w.error,
+        w.min,
+        w.max,
+    ];
+    let points = plan
+        .samples
+        .positions
+        .iter()
+        .chain(plan.path.poses.iter().map(|p| &p.position));
+    let axes = plan.path.poses.iter().map(|p| &p.axis);
+    let tried = plan
+        .iterations
+        .iter()
+        .flat_map(|it| [it.spacing, it.mean, it.std_dev, it.error]);
+    let words = plan
+        .thickness
+        .iter()
+        .chain(&plan.path.speeds)
+        .chain(&figures)
+        .copied()
+        .chain(points.flat_map(|p| [p.x, p.y, p.z]))
+        .chain(axes.flat_map(|a| [a.x, a.y, a.z]))
+        .chain(tried)
+        .map(f64::to_bits);
+    words.fold(0xcbf2_9ce4_8422_2325_u64, |h, word| {
+        word.to_le_bytes().iter().fold(h, |h, &b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+    })
 }
 
 fn env_or(name: &str, default: f64) -> f64 {

@@ -744,6 +744,51 @@ fn check_thickness_matches_the_path(m: &ImportedMesh, plan: &SprayPlan, p: &Spra
     }
 }
 
+/// At a resolution coarser than R/4 the plan's sample grid has cells of twice the
+/// resolution, not R/2: the grid is only an index, so the deposition is the same to the bit
+/// on grids of any cell, and the plan (speeds optimised, limits searched) coats as the
+/// plain deposition says.
+#[test]
+fn a_coarse_resolution_plans_alike_whatever_the_sample_grid() {
+    let m = cylinder_panel(300.0, PI / 5.0, 400.0, 24, 8);
+    let p = SprayParams {
+        resolution: Some(0.6 * R),
+        optimise_speed: true,
+        min_speed: Some(50.0),
+        max_speed: Some(200.0),
+        quality: Some(QualityLimits {
+            max_error: Some(0.2),
+            ..QualityLimits::default()
+        }),
+        ..params(40.0)
+    };
+    let plan = plan(&m, &p).unwrap();
+    assert!(plan.iterations.len() > 1, "the search ran");
+    check_thickness_matches_the_path(&m, &plan, &p);
+    let model = SprayModel {
+        radius: R,
+        peak_rate: peak_rate(&p),
+        standoff: H,
+    };
+    let on = |cell: f64| {
+        let grid = PointGrid::new(&plan.samples.positions, cell);
+        deposit(
+            &plan.path,
+            &plan.samples,
+            &grid,
+            &model,
+            p.speed,
+            p.time_step.unwrap(),
+        )
+        .unwrap()
+    };
+    let reference = on(0.5 * R);
+    assert!(reference.iter().any(|&t| t > 0.0));
+    for cell in [0.2 * R, 1.2 * R, 4.0 * R] {
+        assert!(on(cell) == reference, "cell {cell}");
+    }
+}
+
 #[test]
 fn optimised_speeds_even_out_a_curved_panel_within_the_limits() {
     let m = cylinder_panel(300.0, PI / 5.0, 400.0, 24, 8);

@@ -26,6 +26,18 @@ use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
 /// Cell size of the evaluation-sample grid as a fraction of `R`: small enough that a cone's
 /// box visits few points outside the cone, large enough that it visits few empty cells.
 pub(super) const GRID_CELL_RATIO: Real = 0.5;
+/// The grid's cells are at least this many times the samples' resolution: samples lie up
+/// to a resolution apart, so on samples sparser than `R/4` (a sample budget on a large
+/// patch, or the screening set of one) cells of `R/2` would be mostly empty, and a cone's
+/// box would visit ten empty cells for each with a sample. (No paper. On the largest
+/// patches of the 747, Orion and BWB models at the resolutions a budget of 100,000 samples
+/// gives, 68–99 mm, the same plans in 0.6–0.7 of the time; 1.5 and 3 were no better.)
+const GRID_CELL_SAMPLES: Real = 2.0;
+
+/// Grid cell for samples at `resolution` (see [`GRID_CELL_RATIO`], [`GRID_CELL_SAMPLES`]).
+fn grid_cell(radius: Real, resolution: Real) -> Real {
+    (GRID_CELL_RATIO * radius).max(GRID_CELL_SAMPLES * resolution)
+}
 /// The spacing search's coarse scan samples at this multiple of the evaluation resolution.
 pub const COARSE_RESOLUTION_RATIO: Real = 2.0;
 /// The coarse scan is used only when its samples are at most this fraction of the full ones
@@ -67,7 +79,7 @@ impl Sampling {
             <= COARSE_SAMPLE_FRACTION * self.samples.positions.len() as Real;
         fewer.then(|| Sampling {
             resolution: cell,
-            grid: PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius),
+            grid: PointGrid::new(&samples.positions, grid_cell(radius, cell)),
             interior: origin.iter().map(|&i| self.interior[i]).collect(),
             origin,
             samples,
@@ -108,18 +120,19 @@ impl Sampling {
         self
     }
 
+    /// The samples `sample_faces` placed at `resolution`, stored cell by cell, with their
+    /// grid and interior mask.
     fn new(
         mesh: &TriMesh,
         adjacency: &FaceAdjacency,
-        geometry: &FaceGeometry,
         frame: &PatchFrame,
+        samples: EvaluationSamples,
         resolution: Real,
         radius: Real,
         edge_exclusion: Real,
-    ) -> Result<Sampling, SprayError> {
-        let samples = sample_faces(mesh, adjacency, geometry, &frame.faces, resolution)?;
+    ) -> Sampling {
         // Samples stored cell by cell, so a cone's box reads them from few cache lines.
-        let grid = PointGrid::new(&samples.positions, GRID_CELL_RATIO * radius);
+        let grid = PointGrid::new(&samples.positions, grid_cell(radius, resolution));
         let samples = samples.permuted(grid.order());
         let grid = grid.reordered();
         let interior = interior_mask(
@@ -130,7 +143,7 @@ impl Sampling {
             &samples.positions,
             edge_exclusion,
         );
-        Ok(Sampling {
+        Sampling {
             resolution,
             samples,
             grid,
@@ -138,7 +151,7 @@ impl Sampling {
             origin: Vec::new(),
             solve: None,
             solved: Vec::new(),
-        })
+        }
     }
 }
 
@@ -154,18 +167,21 @@ pub(super) fn sample_sets(
     optimise_speed: bool,
 ) -> Result<(Sampling, Option<Sampling>), SprayError> {
     let radius = resolved.radius;
-    let at = |resolution: Real| {
+    let place =
+        |resolution: Real| sample_faces(mesh, adjacency, geometry, &frame.faces, resolution);
+    // The grid and interior mask are made only for samples that are kept.
+    let complete = |samples: EvaluationSamples, resolution: Real| {
         Sampling::new(
             mesh,
             adjacency,
-            geometry,
             frame,
+            samples,
             resolution,
             radius,
             resolved.edge_exclusion,
         )
     };
-    let full = at(resolved.resolution)?;
+    let full = complete(place(resolved.resolution)?, resolved.resolution);
     let coarse = if !screening {
         None
     } else {
@@ -174,10 +190,9 @@ pub(super) fn sample_sets(
             // The coarse samples would be the mesh's vertices: thin the full ones instead.
             full.thinned(cell, radius)
         } else {
-            let c = at(cell)?;
-            if (c.samples.positions.len() as Real)
-                > COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real
-            {
+            let c = place(cell)?;
+            let count = c.positions.len() as Real;
+            if count > COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real {
                 full.thinned(cell, radius)
             } else {
                 // On a mesh a little coarser than the cell, a face's longest edge sets its
@@ -185,14 +200,13 @@ pub(super) fn sample_sets(
                 // full samples thinned to the cell may then be markedly fewer.
                 let area: Real = full.samples.weights.iter().sum();
                 let dense = cell <= COARSE_THINNED_CELL_RATIO * radius
-                    && c.samples.positions.len() as Real > COARSE_DENSITY * area / (cell * cell);
+                    && count > COARSE_DENSITY * area / (cell * cell);
                 let fewer = |t: &Sampling| {
-                    t.samples.positions.len() as Real
-                        <= COARSE_SAMPLE_FRACTION * c.samples.positions.len() as Real
+                    t.samples.positions.len() as Real <= COARSE_SAMPLE_FRACTION * count
                 };
                 match dense.then(|| full.thinned(cell, radius)).flatten() {
                     Some(t) if fewer(&t) => Some(t),
-                    _ => Some(c),
+                    _ => Some(complete(c, cell)),
                 }
             }
         }
