@@ -301,9 +301,11 @@ impl EdgeGrid {
             let s = k as Real / steps as Real;
             let x = a[0] + (b[0] - a[0]) * s;
             let y = a[1] + (b[1] - a[1]) * s;
+            // `floor` is exact, so any implementation gives these cells; the standard one is
+            // an instruction in WebAssembly, where `libm`'s is a routine.
             let c = (
-                libm::floor(x / self.cell) as i64,
-                libm::floor(y / self.cell) as i64,
+                (x / self.cell).floor() as i64,
+                (y / self.cell).floor() as i64,
             );
             if out.last() != Some(&c) {
                 out.push(c);
@@ -355,21 +357,7 @@ impl EdgeGrid {
             self.stamp.iter_mut().for_each(|s| *s = 0);
             self.query = 1;
         }
-        self.sample_cells(a, b, scratch);
-        // Two crossing segments have samples within a quarter cell of the crossing each, so
-        // their cells are neighbours: visit the union of the samples' 3 × 3 neighbourhoods.
-        let samples = scratch.len();
-        for k in 0..samples {
-            let (cx, cy) = scratch[k];
-            for dx in -1..=1 {
-                for dy in -1..=1 {
-                    scratch.push((cx + dx, cy + dy));
-                }
-            }
-        }
-        scratch.drain(..samples);
-        scratch.sort_unstable();
-        scratch.dedup();
+        self.near_cells(a, b, scratch);
         for c in scratch.iter() {
             let mut entry = self.head.get(c).copied().unwrap_or(NO_ENTRY);
             while entry != NO_ENTRY {
@@ -382,6 +370,32 @@ impl EdgeGrid {
                 entry = next;
             }
         }
+    }
+
+    /// The cells [`EdgeGrid::near`] looks in for the segment `a → b`, in increasing order.
+    fn near_cells(&self, a: [Real; 2], b: [Real; 2], out: &mut Vec<(i64, i64)>) {
+        self.sample_cells(a, b, out);
+        // Two crossing segments have samples within a quarter cell of the crossing each, so
+        // their cells are neighbours: visit the union of the samples' 3 × 3 neighbourhoods,
+        // column by column (x, then y, increasing). The samples' cells are a walk monotone
+        // in x and in y whose steps move at most one cell along each (samples are at most
+        // half a cell apart): the walk's cells within a column of column x cover every y
+        // between their least and greatest, so the union's cells in column x are those
+        // from one below the least to one above the greatest.
+        let walk = out.len();
+        let (x0, x1) = (out[0].0, out[walk - 1].0);
+        for x in x0.min(x1) - 1..=x0.max(x1) + 1 {
+            let (lo, hi) = out[..walk]
+                .iter()
+                .filter(|c| (c.0 - x).abs() <= 1)
+                .fold((i64::MAX, i64::MIN), |(lo, hi), c| {
+                    (lo.min(c.1), hi.max(c.1))
+                });
+            for y in lo - 1..=hi + 1 {
+                out.push((x, y));
+            }
+        }
+        out.drain(..walk);
     }
 }
 
@@ -524,6 +538,10 @@ fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
     let cell = (total / raw.len() as Real).max(tol * 16.0);
     let mut grid = EdgeGrid::new(cell);
     let mut scratch = Vec::new();
+    // The length of each kept edge (edge `e` joins kept nodes `e − 1` and `e`; 0 a dummy),
+    // kept beside them rather than measured again by every query that meets the edge.
+    let mut lengths: Vec<Real> = Vec::with_capacity(raw.len());
+    lengths.push(0.0);
     kept.push(first_node);
     for target in &raw[1..] {
         loop {
@@ -543,7 +561,7 @@ fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
                 }
                 let (a, b) = (kept[e - 1].q, kept[e].q);
                 let s = sub2(b, a);
-                let ls = len2(s);
+                let ls = lengths[e];
                 let denom = cross2(r, s);
                 if ls <= 0.0 || denom.abs() <= PARALLEL_SINE * len * ls {
                     return;
@@ -582,6 +600,7 @@ fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
             });
             let Some(c) = best else {
                 grid.push(kept.len(), from.q, target.q, &mut scratch);
+                lengths.push(len);
                 kept.push(*target);
                 break;
             };
@@ -604,6 +623,7 @@ fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
                 end_cut = true;
             }
             kept.truncate(at + 1);
+            lengths.truncate(at + 1);
             grid.truncate(at);
             let node = &mut kept[at];
             node.axis = axis;
@@ -613,6 +633,8 @@ fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
                 node.p = Point3::from((on_edge.coords + on_new.coords) * 0.5);
                 node.q = [from.q[0] + r[0] * c.t, from.q[1] + r[1] * c.t];
                 node.origin = b.origin;
+                // The edge now ends at the crossing.
+                lengths[at] = len2(sub2(kept[at].q, kept[at - 1].q));
             }
         }
     }
@@ -812,4 +834,51 @@ pub fn build_trajectory(
         },
         counts,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cells looked in are the union of the 3 × 3 neighbourhoods of the segment's
+    /// sample cells, in increasing order, as sorting that union gives them: on segments of
+    /// every direction and length (a few cells or none), anywhere on the grid.
+    #[test]
+    fn the_cells_near_a_segment_are_the_neighbourhoods_of_its_samples() {
+        let grid = EdgeGrid::new(0.7);
+        // A fixed sequence of pseudo-random numbers in [0, 1) (64-bit LCG).
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as Real / (1u64 << 53) as Real
+        };
+        let (mut cells, mut naive) = (Vec::new(), Vec::new());
+        for k in 0..20_000 {
+            let a = [200.0 * next() - 100.0, 200.0 * next() - 100.0];
+            let reach = [0.0, 0.3, 2.0, 9.0][k % 4];
+            let b = match k % 5 {
+                // Along an axis, either way.
+                0 => [a[0] + reach * (next() - 0.5), a[1]],
+                1 => [a[0], a[1] + reach * (next() - 0.5)],
+                _ => [a[0] + reach * (next() - 0.5), a[1] + reach * (next() - 0.5)],
+            };
+            grid.near_cells(a, b, &mut cells);
+            grid.sample_cells(a, b, &mut naive);
+            let walk = naive.len();
+            for i in 0..walk {
+                let (x, y) = naive[i];
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        naive.push((x + dx, y + dy));
+                    }
+                }
+            }
+            naive.drain(..walk);
+            naive.sort_unstable();
+            naive.dedup();
+            assert_eq!(cells, naive, "{a:?} → {b:?}");
+        }
+    }
 }
