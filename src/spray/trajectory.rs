@@ -275,6 +275,10 @@ struct EdgeGrid {
     /// Per edge: the last query that tested it.
     stamp: Vec<u32>,
     query: u32,
+    /// The segment of the last [`EdgeGrid::near_cells`] and the length of its walk of sample
+    /// cells, which it left at the front of its output: registering that segment next (no
+    /// crossing found) reads them there instead of sampling it again.
+    walk_of: Option<([Real; 2], [Real; 2], usize)>,
 }
 
 /// End of a cell's list of entries.
@@ -289,6 +293,7 @@ impl EdgeGrid {
             edge_start: Vec::new(),
             stamp: Vec::new(),
             query: 0,
+            walk_of: None,
         }
     }
     /// Cells of sample points at most half a cell apart along `a → b` (monotone, so repeats
@@ -315,7 +320,10 @@ impl EdgeGrid {
     /// Registers edge `id` (= the number of edges registered so far + 1) from `a` to `b`.
     fn push(&mut self, id: usize, a: [Real; 2], b: [Real; 2], scratch: &mut Vec<(i64, i64)>) {
         debug_assert_eq!(id, self.edge_start.len() + 1);
-        self.sample_cells(a, b, scratch);
+        match self.walk_of.take() {
+            Some((from, to, walk)) if (from, to) == (a, b) => scratch.truncate(walk),
+            _ => self.sample_cells(a, b, scratch),
+        }
         self.edge_start.push(self.entries.len());
         for &c in scratch.iter() {
             let index = self.entries.len() as u32;
@@ -357,8 +365,8 @@ impl EdgeGrid {
             self.stamp.iter_mut().for_each(|s| *s = 0);
             self.query = 1;
         }
-        self.near_cells(a, b, scratch);
-        for c in scratch.iter() {
+        let walk = self.near_cells(a, b, scratch);
+        for c in &scratch[walk..] {
             let mut entry = self.head.get(c).copied().unwrap_or(NO_ENTRY);
             while entry != NO_ENTRY {
                 let (e, next, _) = self.entries[entry as usize];
@@ -372,8 +380,9 @@ impl EdgeGrid {
         }
     }
 
-    /// The cells [`EdgeGrid::near`] looks in for the segment `a → b`, in increasing order.
-    fn near_cells(&self, a: [Real; 2], b: [Real; 2], out: &mut Vec<(i64, i64)>) {
+    /// The cells [`EdgeGrid::near`] looks in for the segment `a → b`, in increasing order,
+    /// after its sample cells: returns where they start (the number of sample cells).
+    fn near_cells(&mut self, a: [Real; 2], b: [Real; 2], out: &mut Vec<(i64, i64)>) -> usize {
         self.sample_cells(a, b, out);
         // Two crossing segments have samples within a quarter cell of the crossing each, so
         // their cells are neighbours: visit the union of the samples' 3 × 3 neighbourhoods,
@@ -395,7 +404,8 @@ impl EdgeGrid {
                 out.push((x, y));
             }
         }
-        out.drain(..walk);
+        self.walk_of = Some((a, b, walk));
+        walk
     }
 }
 
@@ -845,7 +855,7 @@ mod tests {
     /// every direction and length (a few cells or none), anywhere on the grid.
     #[test]
     fn the_cells_near_a_segment_are_the_neighbourhoods_of_its_samples() {
-        let grid = EdgeGrid::new(0.7);
+        let mut grid = EdgeGrid::new(0.7);
         // A fixed sequence of pseudo-random numbers in [0, 1) (64-bit LCG).
         let mut state = 0x2545_f491_4f6c_dd1d_u64;
         let mut next = || {
@@ -864,8 +874,10 @@ mod tests {
                 1 => [a[0], a[1] + reach * (next() - 0.5)],
                 _ => [a[0] + reach * (next() - 0.5), a[1] + reach * (next() - 0.5)],
             };
-            grid.near_cells(a, b, &mut cells);
+            let walk = grid.near_cells(a, b, &mut cells);
             grid.sample_cells(a, b, &mut naive);
+            assert_eq!(cells[..walk], naive[..], "the sample cells first");
+            cells.drain(..walk);
             let walk = naive.len();
             for i in 0..walk {
                 let (x, y) = naive[i];
