@@ -38,6 +38,7 @@ const GRID_CELL_SAMPLES: Real = 2.0;
 fn grid_cell(radius: Real, resolution: Real) -> Real {
     (GRID_CELL_RATIO * radius).max(GRID_CELL_SAMPLES * resolution)
 }
+
 /// The spacing search's coarse scan samples at this multiple of the evaluation resolution.
 pub const COARSE_RESOLUTION_RATIO: Real = 2.0;
 /// The coarse scan is used only when its samples are at most this fraction of the full ones

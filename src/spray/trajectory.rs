@@ -275,10 +275,15 @@ struct EdgeGrid {
     /// Per edge: the last query that tested it.
     stamp: Vec<u32>,
     query: u32,
-    /// The segment of the last [`EdgeGrid::near_cells`] and the length of its walk of sample
-    /// cells, which it left at the front of its output: registering that segment next (no
-    /// crossing found) reads them there instead of sampling it again.
-    walk_of: Option<([Real; 2], [Real; 2], usize)>,
+    /// The sample cells of the segment last queried or registered ([`EdgeGrid::sample_cells`])
+    /// and that segment: registering the segment just queried (no crossing found) reads them
+    /// here instead of sampling it again.
+    walk: Vec<(i64, i64)>,
+    walk_of: Option<([Real; 2], [Real; 2])>,
+    /// The cells the last query looked in, and each column's least and greatest y of its
+    /// walk (scratch).
+    cells: Vec<(i64, i64)>,
+    columns: Vec<(i64, i64)>,
 }
 
 /// End of a cell's list of entries.
@@ -293,7 +298,10 @@ impl EdgeGrid {
             edge_start: Vec::new(),
             stamp: Vec::new(),
             query: 0,
+            walk: Vec::new(),
             walk_of: None,
+            cells: Vec::new(),
+            columns: Vec::new(),
         }
     }
     /// Cells of sample points at most half a cell apart along `a → b` (monotone, so repeats
@@ -318,14 +326,11 @@ impl EdgeGrid {
         }
     }
     /// Registers edge `id` (= the number of edges registered so far + 1) from `a` to `b`.
-    fn push(&mut self, id: usize, a: [Real; 2], b: [Real; 2], scratch: &mut Vec<(i64, i64)>) {
+    fn push(&mut self, id: usize, a: [Real; 2], b: [Real; 2]) {
         debug_assert_eq!(id, self.edge_start.len() + 1);
-        match self.walk_of.take() {
-            Some((from, to, walk)) if (from, to) == (a, b) => scratch.truncate(walk),
-            _ => self.sample_cells(a, b, scratch),
-        }
+        self.walk(a, b);
         self.edge_start.push(self.entries.len());
-        for &c in scratch.iter() {
+        for &c in &self.walk {
             let index = self.entries.len() as u32;
             let next = self.head.insert(c, index).unwrap_or(NO_ENTRY);
             self.entries.push((id as u32, next, c));
@@ -353,20 +358,14 @@ impl EdgeGrid {
     }
     /// Calls `visit` once for every registered edge near the segment `a → b` (every edge
     /// crossing it is visited).
-    fn near(
-        &mut self,
-        a: [Real; 2],
-        b: [Real; 2],
-        scratch: &mut Vec<(i64, i64)>,
-        mut visit: impl FnMut(usize),
-    ) {
+    fn near(&mut self, a: [Real; 2], b: [Real; 2], mut visit: impl FnMut(usize)) {
         self.query = self.query.wrapping_add(1);
         if self.query == 0 {
             self.stamp.iter_mut().for_each(|s| *s = 0);
             self.query = 1;
         }
-        let walk = self.near_cells(a, b, scratch);
-        for c in &scratch[walk..] {
+        self.near_cells(a, b);
+        for c in &self.cells {
             let mut entry = self.head.get(c).copied().unwrap_or(NO_ENTRY);
             while entry != NO_ENTRY {
                 let (e, next, _) = self.entries[entry as usize];
@@ -380,32 +379,51 @@ impl EdgeGrid {
         }
     }
 
+    /// The sample cells of `a → b` in `self.walk`, sampled unless they are there already.
+    fn walk(&mut self, a: [Real; 2], b: [Real; 2]) {
+        if self.walk_of != Some((a, b)) {
+            let mut walk = std::mem::take(&mut self.walk);
+            self.sample_cells(a, b, &mut walk);
+            self.walk = walk;
+            self.walk_of = Some((a, b));
+        }
+    }
+
     /// The cells [`EdgeGrid::near`] looks in for the segment `a → b`, in increasing order,
-    /// after its sample cells: returns where they start (the number of sample cells).
-    fn near_cells(&mut self, a: [Real; 2], b: [Real; 2], out: &mut Vec<(i64, i64)>) -> usize {
-        self.sample_cells(a, b, out);
+    /// in `self.cells` (its sample cells in `self.walk`).
+    fn near_cells(&mut self, a: [Real; 2], b: [Real; 2]) {
+        self.walk(a, b);
         // Two crossing segments have samples within a quarter cell of the crossing each, so
         // their cells are neighbours: visit the union of the samples' 3 × 3 neighbourhoods,
         // column by column (x, then y, increasing). The samples' cells are a walk monotone
         // in x and in y whose steps move at most one cell along each (samples are at most
-        // half a cell apart): the walk's cells within a column of column x cover every y
-        // between their least and greatest, so the union's cells in column x are those
-        // from one below the least to one above the greatest.
-        let walk = out.len();
-        let (x0, x1) = (out[0].0, out[walk - 1].0);
-        for x in x0.min(x1) - 1..=x0.max(x1) + 1 {
-            let (lo, hi) = out[..walk]
-                .iter()
-                .filter(|c| (c.0 - x).abs() <= 1)
+        // half a cell apart), so it meets every column between its ends, and its cells in
+        // columns x − 1 to x + 1 cover every y between their least and greatest: the union's
+        // cells in column x are those from one below the least to one above the greatest.
+        let walk = &self.walk;
+        let (x0, x1) = (walk[0].0, walk[walk.len() - 1].0);
+        let x_lo = x0.min(x1);
+        // Each column's least and greatest y, in one pass over the walk.
+        let columns = &mut self.columns;
+        columns.clear();
+        columns.resize((x0.max(x1) - x_lo + 1) as usize, (i64::MAX, i64::MIN));
+        for &(x, y) in walk {
+            let (lo, hi) = &mut columns[(x - x_lo) as usize];
+            (*lo, *hi) = ((*lo).min(y), (*hi).max(y));
+        }
+        self.cells.clear();
+        for x in x_lo - 1..=x0.max(x1) + 1 {
+            let near = |k: i64| usize::try_from(k - x_lo).ok().and_then(|k| columns.get(k));
+            let (lo, hi) = [near(x - 1), near(x), near(x + 1)]
+                .into_iter()
+                .flatten()
                 .fold((i64::MAX, i64::MIN), |(lo, hi), c| {
-                    (lo.min(c.1), hi.max(c.1))
+                    (lo.min(c.0), hi.max(c.1))
                 });
             for y in lo - 1..=hi + 1 {
-                out.push((x, y));
+                self.cells.push((x, y));
             }
         }
-        self.walk_of = Some((a, b, walk));
-        walk
     }
 }
 
@@ -547,7 +565,6 @@ fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
     let total: Real = raw.windows(2).map(|w| len2(sub2(w[1].q, w[0].q))).sum();
     let cell = (total / raw.len() as Real).max(tol * 16.0);
     let mut grid = EdgeGrid::new(cell);
-    let mut scratch = Vec::new();
     // The length of each kept edge (edge `e` joins kept nodes `e − 1` and `e`; 0 a dummy),
     // kept beside them rather than measured again by every query that meets the edge.
     let mut lengths: Vec<Real> = Vec::with_capacity(raw.len());
@@ -565,7 +582,7 @@ fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
             let last_edge = kept.len() - 1;
             let mut best: Option<Crossing> = None;
             let t_min = tol / len;
-            grid.near(from.q, target.q, &mut scratch, |e| {
+            grid.near(from.q, target.q, |e| {
                 if e >= last_edge {
                     return;
                 }
@@ -609,7 +626,7 @@ fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
                 };
             });
             let Some(c) = best else {
-                grid.push(kept.len(), from.q, target.q, &mut scratch);
+                grid.push(kept.len(), from.q, target.q);
                 lengths.push(len);
                 kept.push(*target);
                 break;
@@ -864,7 +881,7 @@ mod tests {
                 .wrapping_add(1_442_695_040_888_963_407);
             (state >> 11) as Real / (1u64 << 53) as Real
         };
-        let (mut cells, mut naive) = (Vec::new(), Vec::new());
+        let mut naive = Vec::new();
         for k in 0..20_000 {
             let a = [200.0 * next() - 100.0, 200.0 * next() - 100.0];
             let reach = [0.0, 0.3, 2.0, 9.0][k % 4];
@@ -874,10 +891,9 @@ mod tests {
                 1 => [a[0], a[1] + reach * (next() - 0.5)],
                 _ => [a[0] + reach * (next() - 0.5), a[1] + reach * (next() - 0.5)],
             };
-            let walk = grid.near_cells(a, b, &mut cells);
+            grid.near_cells(a, b);
             grid.sample_cells(a, b, &mut naive);
-            assert_eq!(cells[..walk], naive[..], "the sample cells first");
-            cells.drain(..walk);
+            assert_eq!(grid.walk, naive, "the sample cells");
             let walk = naive.len();
             for i in 0..walk {
                 let (x, y) = naive[i];
@@ -890,7 +906,7 @@ mod tests {
             naive.drain(..walk);
             naive.sort_unstable();
             naive.dedup();
-            assert_eq!(cells, naive, "{a:?} → {b:?}");
+            assert_eq!(grid.cells, naive, "{a:?} → {b:?}");
         }
     }
 }
