@@ -45,12 +45,13 @@ const CORNER_DEFECT: Real = 0.05;
 /// ...or with a hole: a boundary loop whose vertices' face angles, less π each, sum to more
 /// than this (radians). The rim of a hole in a flat plate sums to 2π, an outer boundary to
 /// −2π (jagged or not: its notches and teeth cancel), a tube's rims to 0. Virtual sources
-/// are not held to the shadow a hole casts, and were carried straight across it: on
-/// Orion's heat shield (5,694 faces, six holes about 1.3 ft across), from its section by
-/// the plane x = 0, up to 1.2 ft short of the exact distance behind a hole (no corner there,
-/// so the exact method was not tried); on the cap R 1000 mm of 60k faces with a hole 120 mm
-/// across, from a plane section, 15 mm. Larger surfaces, and a try over its budget, keep
-/// that error (see "Limits" in `virtual_source.rs`).
+/// are held to the shadow a hole casts only near its rim (see `virtual_source/shadow.rs`):
+/// on Orion's heat shield (5,694 faces, six holes about 1.3 ft across), from its section by
+/// the plane x = 0, they are up to 0.50 ft short of the exact distance behind a hole (1.2
+/// before that walk; no corner there, so the exact method would not be tried); on the cap
+/// R 1000 mm of 60k faces with a hole 120 mm across, from a plane section, 0.22 mm (15
+/// before), from a vertex 2.3 mm. Larger surfaces, and a try over its budget, keep that
+/// error (see "Limits" in `virtual_source.rs`).
 const HOLE_TURNING: Real = std::f64::consts::PI;
 /// Windows per face the exact method may process there (measured on whole aircraft models
 /// from a vertex: 19–32 per face on a BWB, 45–46 on a wing-body, 35–59 on Orion). A try on

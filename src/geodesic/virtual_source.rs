@@ -55,13 +55,16 @@
 //!         front above 1 GiB (about 7M triangles): each vertex is settled once and offers
 //!         each face around it twice.
 //! Limits: a source is offered on wherever the ray from it crosses the last edge before
-//!         the vertex; nothing holds it to the part of the surface it can see past the rim
-//!         of a hole (only a point source walked round a sharp vertex keeps a wedge, see
-//!         `wedge.rs`). Behind a hole such rays cross the hole, and the distance falls short
-//!         of the path round it: the cap R 1000 of 60k faces with a hole 120 mm across, from
-//!         a plane section on the far side, 15 mm short (3,715 vertices too far by over
-//!         0.01 mm elsewhere); from a vertex, 2.1 mm. On surfaces of up to 100k faces with a
-//!         hole the exact method answers first, within its budget (see `field.rs`).
+//!         the vertex and, near a reflex part of the boundary (the rim of a hole), where the
+//!         ray crosses faces for [`shadow::SHADOW_STEPS`] faces back (see `shadow.rs`).
+//!         Farther back nothing holds it to the part of the surface it can see past the rim
+//!         of a hole, and a source carried on past a hole can still fall short far beyond
+//!         it: the cap R 1000 of 60k faces with a hole 120 mm across, from a vertex on the
+//!         far side, 2.3 mm short across the pole, about a metre beyond the hole (from a
+//!         plane section there 0.22 mm; at 239k faces 0.08 and 0.11 mm; before the walk 7.8
+//!         and 15.4 mm). On
+//!         surfaces of up to 100k faces with a hole the exact method answers first, within
+//!         its budget (see `field.rs`).
 //! Deviations (no paper):
 //!   - A virtual source is a *segment* `[p, q]` (distance `σ + dist(x, [p, q])`): a point
 //!     when `p = q`, otherwise the straight run of a source curve nearest to the vertex (the
@@ -95,6 +98,7 @@ mod follow;
 mod queue;
 mod run_on;
 mod seeding;
+mod shadow;
 mod wedge;
 
 use super::focal;
@@ -281,6 +285,10 @@ pub(super) struct Solver<'a> {
     /// normal of the face under each and the pieces before and after it (see
     /// [`Self::follow_curve`]).
     pieces: Vec<CurvePiece>,
+    /// Per vertex, the rings between it and a reflex vertex of the boundary (where the
+    /// surface has a gap), near which offers are walked back (see `shadow.rs`); empty on a
+    /// surface with none and in the focal patches.
+    gap_rings: Vec<u8>,
 }
 
 impl<'a> Solver<'a> {
@@ -306,6 +314,7 @@ impl<'a> Solver<'a> {
             origins: Vec::new(),
             piece: Vec::new(),
             pieces: Vec::new(),
+            gap_rings: Vec::new(),
         }
     }
 
@@ -440,6 +449,15 @@ impl<'a> Solver<'a> {
         if !(within.contains(&lambda) && within.contains(&tau)) {
             return None;
         }
+        // Near a boundary, a ray that left the surface on its way is refused (see
+        // `shadow.rs`); one that starts on the edge it crosses (a source on a border) is not.
+        if !self.gap_rings.is_empty()
+            && usize::from(self.face_gap_rings(t)) < shadow::SHADOW_STEPS
+            && tau > CROSSING_TOLERANCE
+            && self.through_a_gap(&f, &(f + w * tau), t, a, b)
+        {
+            return None;
+        }
         // A point source walked round a sharp vertex holds only in its wedge (see `wedge.rs`);
         // beyond it, the path bends at the wedge's side, held to the same checks.
         let giver = if other == b { a } else { b };
@@ -543,6 +561,9 @@ impl<'a> Solver<'a> {
                 } else {
                     self.piece[giver]
                 };
+            }
+            if self.wedge.is_empty() && self.bends_at_a_gap(&s, giver) {
+                self.wedge = vec![Wedge::OPEN; self.dist.len()];
             }
             if !self.wedge.is_empty() {
                 self.pass_wedge(x, &s, giver, walked);
@@ -654,12 +675,12 @@ pub(crate) fn propagate(
     let nv = mesh.vertex_count();
     // Worst case: a source, distance, two flags, a queue entry and its index, the source
     // vertex or curve piece it comes from (one or the other), a wedge and a cached angle
-    // defect (see `wedge.rs`) per vertex,
+    // defect (see `wedge.rs`), and the rings to a gap (see `shadow.rs`) per vertex,
     // the face normals (held by the surface) and the focal patches.
     let per_vertex = std::mem::size_of::<Virtual>()
         + std::mem::size_of::<Entry>()
         + std::mem::size_of::<Wedge>()
-        + 22;
+        + 23;
     let bytes = nv as u64 * per_vertex as u64
         + mesh.triangle_count() as u64 * std::mem::size_of::<Vector3>() as u64
         + focal::budget(surface.faces.len()) as u64 * focal::BYTES_PER_FACE;
@@ -670,6 +691,8 @@ pub(crate) fn propagate(
         )));
     }
     let mut s = Solver::new(surface);
+    // Not in the focal patches below: their borders are cuts, not gaps.
+    s.gap_rings = shadow::rings_to_a_gap(surface);
     if source.curves.is_empty() {
         s.origin = vec![0; nv];
         s.origins = source.vertices.iter().map(|&v| pos[v as usize]).collect();

@@ -12,7 +12,10 @@
 //!         vertex on the wrong side would misplace the source by about `ρ·δ`. Passing a
 //!         vertex of small defect misplaces it by less, and is allowed: on the smooth parts
 //!         of a surface, neighbouring strips unfold the source alike, and bounding every side
-//!         would bend the paths at every vertex.
+//!         would bend the paths at every vertex. A path bending at a reflex vertex of the
+//!         boundary (the rim of a hole, see `shadow.rs`) holds over that vertex's faces only:
+//!         its wedge is their angles at the vertex, and a ray beyond it crosses the gap (no
+//!         path bends there: such an offer is refused).
 //! Input:  the edges walked round a sharp vertex (laid out in one plane), their far vertices.
 //! Output: per vertex, the wedge its point source holds in, and at an offer from beyond it the
 //!         path bending at the vertex on the side crossed, a new point source there.
@@ -29,7 +32,8 @@
 //!         `atan2` per improvement of a vertex whose source holds in a bounded wedge, and one
 //!         per offer it makes.
 
-use super::{Offered, Solver, Virtual};
+use super::{corners_after, Offered, Solver, Virtual};
+use crate::geodesic::unfolding::corner_angle;
 use crate::math::{Point3, Real, Vector3};
 
 /// A vertex bounds a side of a wedge when its angle defect (radians) times its distance from
@@ -184,6 +188,10 @@ impl Solver<'_> {
         let to_giver = pg - s.p;
         let phi = angle_about(&to_giver, &(px - s.p), n);
         let (side, reach) = self.wedge[giver].beyond(phi)?;
+        if reach == 0.0 {
+            // Beyond a border's faces (see `rim_wedge`): across the gap, no path at all.
+            return Some(None);
+        }
         let g = to_giver.normalize();
         let bend = s.p + (g * libm::cos(side) + n.cross(&g) * libm::sin(side)) * reach;
         let sigma = s.sigma + reach;
@@ -195,10 +203,61 @@ impl Solver<'_> {
         )
     }
 
+    /// Whether `s` is the path bending at `giver` on the border of a surface with gaps (see
+    /// `shadow.rs`): its rays hold only over the faces round `giver` (see [`Self::rim_wedge`]).
+    pub(super) fn bends_at_a_gap(&self, s: &Virtual, giver: usize) -> bool {
+        self.gap_rings.get(giver) == Some(&0)
+            && s.p == s.q
+            && s.p == self.surface.mesh.positions()[giver]
+    }
+
+    /// The wedge of the rays from boundary vertex `u` that leave it over its faces, measured
+    /// from the ray to its neighbour `x`: the faces' angles at `u` summed each way round from
+    /// the edge to `x` up to the border. A ray beyond it crosses the gap beside `u`, so no
+    /// side is a place to bend (reach 0, see [`Self::beyond_wedge`]).
+    fn rim_wedge(&self, u: usize, x: usize) -> Wedge {
+        let surface = self.surface;
+        let tris = surface.mesh.triangles();
+        let faces = surface.faces_of(u);
+        // Counter-clockwise about the faces' normals: from the edge u → a of a face (u, a, b)
+        // to u → b; clockwise the other way. Each step takes a face, so the walk ends; a
+        // fan that closes (no border) bounds nothing.
+        let turn = |ccw: bool| -> Real {
+            let (mut from, mut sum) = (x, 0.0);
+            for _ in 0..faces.len() {
+                let next = faces.iter().find_map(|&f| {
+                    let (a, b) = corners_after(tris[f as usize], u);
+                    match ccw {
+                        true => (a == from).then_some((f as usize, b)),
+                        false => (b == from).then_some((f as usize, a)),
+                    }
+                });
+                let Some((f, to)) = next else {
+                    return sum;
+                };
+                sum += corner_angle(surface, f, u).1;
+                from = to;
+                if from == x {
+                    break;
+                }
+            }
+            Real::INFINITY
+        };
+        Wedge {
+            side: [-turn(false) as f32, turn(true) as f32],
+            reach: [0.0, 0.0],
+        }
+    }
+
     /// The wedge `x` holds its new source `s` in, handed on by `giver`: the giver's own,
     /// measured from the ray to `x`, when `s` is the giver's source moved (not a bend);
-    /// within `walked` too (a wedge from a walk round `giver`, measured from the ray to it).
+    /// within `walked` too (a wedge from a walk round `giver`, measured from the ray to it);
+    /// for a bend at a border, the faces round it (see [`Self::rim_wedge`]).
     pub(super) fn pass_wedge(&mut self, x: usize, s: &Virtual, giver: usize, walked: &Wedge) {
+        if self.bends_at_a_gap(s, giver) {
+            self.wedge[x] = self.rim_wedge(giver, x);
+            return;
+        }
         let own = self.src[giver];
         let pos = self.surface.mesh.positions();
         let w = self.wedge[giver].within(walked);
