@@ -41,7 +41,10 @@
 //!         to the bit and within the noise in time). Otherwise the rings from those
 //!         vertices (a breadth-first search, a byte a vertex) and, for offers into faces
 //!         near them that would improve a vertex, a walk of [`SHADOW_STEPS`] faces at most,
-//!         each a rotation and two crossing tests.
+//!         each a rotation and two crossing tests: Orion's heat shield subdivided to 91k and
+//!         364k faces, from the plane x = 0, 54 → 72 and 174 → 232 ms natively (most short of
+//!         the exact distance 0.96 → 0.061 and 0.96 → 0.091 ft; the exact method 10 and
+//!         102 s).
 
 use super::{Rotation, Solver, CROSSING_TOLERANCE, FOLD_COSINE};
 use crate::geodesic::surface::Surface;
