@@ -17,7 +17,7 @@ use super::iso_lines::{contour, IsoLine};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
 use super::source::{boundary_loops, resolve, GeodesicSource};
 use super::surface::Surface;
-use super::unfolding::corner_angle;
+use super::unfolding::boundary_turn;
 use super::voxel::{propagate as voxel_propagate, voxelise, VoxelField};
 use super::voxel_paths::order_level;
 use crate::math::{Real, Vector3};
@@ -218,18 +218,12 @@ fn exact_first_budget(surface: &Surface, given: Option<u64>) -> Option<u64> {
 /// Whether a boundary loop of `surface` turns as the rim of a hole does (see
 /// [`HOLE_TURNING`]).
 fn has_hole(surface: &Surface) -> bool {
-    // The face angles at boundary vertex v, less π.
-    let turn = |v: usize| -> Real {
-        let angles: Real = surface
-            .faces_of(v)
-            .iter()
-            .map(|&f| corner_angle(surface, f as usize, v).1)
-            .sum();
-        angles - std::f64::consts::PI
-    };
-    boundary_loops(surface)
-        .iter()
-        .any(|l| l.iter().map(|&v| turn(v as usize)).sum::<Real>() > HOLE_TURNING)
+    boundary_loops(surface).iter().any(|l| {
+        l.iter()
+            .map(|&v| boundary_turn(surface, v as usize))
+            .sum::<Real>()
+            > HOLE_TURNING
+    })
 }
 
 impl DistanceField {

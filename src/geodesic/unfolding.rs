@@ -292,6 +292,18 @@ pub(super) fn angle_sum(surface: &Surface, v: usize) -> Option<Real> {
     Some(angle)
 }
 
+/// How far the face angles at boundary vertex `v` sum beyond π: positive where the border
+/// turns away from the surface (the rim of a hole, a notch), negative where it turns
+/// towards it (a convex border), 0 along a straight one.
+pub(super) fn boundary_turn(surface: &Surface, v: usize) -> Real {
+    let angles: Real = surface
+        .faces_of(v)
+        .iter()
+        .map(|&f| corner_angle(surface, f as usize, v).1)
+        .sum();
+    angles - std::f64::consts::PI
+}
+
 /// The corner of face `f` at vertex `v` (its slot in the triangle) and the face's angle
 /// there.
 pub(super) fn corner_angle(surface: &Surface, f: usize, v: usize) -> (usize, Real) {

@@ -48,7 +48,7 @@
 
 use super::{Rotation, Solver, CROSSING_TOLERANCE, FOLD_COSINE};
 use crate::geodesic::surface::Surface;
-use crate::geodesic::unfolding::corner_angle;
+use crate::geodesic::unfolding::boundary_turn;
 use crate::math::{Point3, Real};
 
 /// Faces an offer's ray is walked back at most, and the rings of vertices round a reflex
@@ -104,12 +104,7 @@ pub(super) fn rings_to_a_gap(surface: &Surface) -> Vec<u8> {
                 if ring.get(v as usize).is_some_and(|&r| r != FAR) {
                     continue;
                 }
-                let angles: Real = surface
-                    .faces_of(v as usize)
-                    .iter()
-                    .map(|&g| corner_angle(surface, g as usize, v as usize).1)
-                    .sum();
-                if angles > std::f64::consts::PI + REFLEX_TURN {
+                if boundary_turn(surface, v as usize) > REFLEX_TURN {
                     if ring.is_empty() {
                         ring = vec![FAR; mesh.vertex_count()];
                     }
@@ -196,30 +191,28 @@ impl Solver<'_> {
                 .map(|&v| v as usize)
                 .find(|&v| v != a && v != b)
                 .unwrap_or(a);
-            // The edge of h the ray crosses on its way back from c to f, if any before f.
-            let crossed = [(a, z), (b, z)].into_iter().find(|&(p, q)| {
+            // The edge of h the ray crosses on its way back from c to f, if any before f,
+            // and where (c + s·back = p + λ·e).
+            let crossed = [(a, z), (b, z)].into_iter().find_map(|(p, q)| {
                 let e = pos[q] - pos[p];
                 let den = e.cross(&back).dot(n);
                 let scale = e.norm_squared() * back.norm_squared();
                 if den * den <= CROSSING_TOLERANCE * CROSSING_TOLERANCE * scale {
-                    return false;
+                    return None;
                 }
-                // c + s·back = p + λ·e.
                 let cp = c - pos[p];
                 let lambda = cp.cross(&back).dot(n) / den;
                 let s = cp.cross(&e).dot(n) / den;
-                (-CROSSING_TOLERANCE..=1.0 + CROSSING_TOLERANCE).contains(&lambda)
+                ((-CROSSING_TOLERANCE..=1.0 + CROSSING_TOLERANCE).contains(&lambda)
                     && s > CROSSING_TOLERANCE
-                    && s < 1.0 - CROSSING_TOLERANCE
+                    && s < 1.0 - CROSSING_TOLERANCE)
+                    .then(|| (p, q, pos[p] + e * lambda.clamp(0.0, 1.0)))
             });
-            let Some((p, q)) = crossed else {
+            let Some((p, q, at)) = crossed else {
                 // The foot lies in h (or the ray ends on its edge): it crossed the surface.
                 return false;
             };
-            let e = pos[q] - pos[p];
-            let den = e.cross(&back).dot(n);
-            let lambda = (c - pos[p]).cross(&back).dot(n) / den;
-            c = pos[p] + e * lambda.clamp(0.0, 1.0);
+            c = at;
             (g, a, b) = (h, p, q);
         }
         false
