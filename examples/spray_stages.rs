@@ -4,7 +4,8 @@
 //! (`npm run bench -- spray` measures the WebAssembly build end to end.)
 //! Environment: `MAX_ERROR`, `MIN_SPACING`, `MAX_SPACING` set the search's limits (default
 //! maxError 0.2); `CPU_TIME=1` reports process CPU time (steadier than wall time on a shared
-//! machine; Linux); `ONLY_PLAN=1` stops after the single plan, `ONLY_SEARCH=1` skips it.
+//! machine; Linux); `ONLY_PLAN=1` stops after the single plan, `ONLY_SEARCH=1` skips it;
+//! `SAMPLE_BUDGET=N` coarsens the resolution to fit N samples, as the page does (100,000).
 //! Each plan's line ends with a fingerprint of its results bit for bit (thickness, samples,
 //! poses and speeds, figures, spacings tried), so that two builds can be compared.
 
@@ -50,6 +51,9 @@ fn main() {
         transition_angle: 20f64.to_radians(),
         efficiency: 0.6,
         resolution: args.get(3).and_then(|r| r.parse().ok()),
+        sample_budget: std::env::var("SAMPLE_BUDGET")
+            .ok()
+            .and_then(|b| b.parse().ok()),
         ..SprayParams::default()
     };
     let report = |what: &str, plan: &SprayPlan, ms: f64| {

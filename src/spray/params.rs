@@ -164,7 +164,9 @@ pub struct SprayParams {
     /// ([`MAX_TIME_SAMPLES`]) and steps the rare pieces moving along their axis; straight
     /// lateral pieces are integrated by quadrature whatever its value.
     pub time_step: Option<Real>,
-    /// Distance between evaluation samples (default `R/8`).
+    /// Distance between evaluation samples (default `R/8`): every point of the patch lies
+    /// within `resolution/√2` of one, as on a square grid that far apart (see
+    /// [`sample_faces`](super::sample_faces)).
     pub resolution: Option<Real>,
     /// Most evaluation samples wanted (a positive whole number): a finer resolution is
     /// coarsened until the faces' samples, counted as an upper bound, fit (see

@@ -2,9 +2,12 @@
 //!
 //! Source: spray patent (Tsinghua, Guan & Chen), step 6 evaluates thickness at points where
 //! equally spaced section planes cut the STL. No paper for this replacement: each triangle
-//! is split into `k²` sub-triangles with `k = ceil(longest edge / resolution)`, so coarse
-//! CAD meshes (a flat panel of two triangles) get dense samples too, and the sub-triangles
-//! form a display mesh for a smooth heat map.
+//! is split into `k²` sub-triangles, `k` the least whole number at which every point of a
+//! sub-triangle lies within `resolution/√2` of one of its corners: the reach of the samples
+//! of a square grid `resolution` apart. So coarse CAD meshes (a flat panel of two
+//! triangles) get dense samples too, a mesh already that fine (a grid of squares of the
+//! resolution, cut along a diagonal longer than it) is sampled at its vertices, and the
+//! sub-triangles form a display mesh for a smooth heat map.
 //! Input:  mesh, its face adjacency, selected faces, resolution.
 //! Output: sample positions, unit normals (area-weighted over the faces that share the
 //!         sample), area weights (a third of each touching sub-triangle), sub-triangles.
@@ -34,25 +37,63 @@ pub struct EvaluationSamples {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// Subdivisions of a face for `resolution`: its longest edge over the resolution, rounded
-/// up, but no more than `2·√area / resolution`, so a sliver (a long edge, hardly any area)
-/// does not get thousands of samples; the two agree on well-shaped triangles.
+/// Subdivisions of a face for `resolution`: its [`reach`] times `√2` over the resolution,
+/// rounded up, but no more than `2·√area / resolution`, so a sliver (a long edge, hardly
+/// any area) does not get thousands of samples; the two agree on well-shaped triangles.
 fn subdivisions(corners: &[Point3; 3], resolution: Real) -> usize {
     subdivisions_of(face_scale(corners), resolution)
 }
 
-/// A face's longest edge and `2·√area`, which decide its [`subdivisions`].
-fn face_scale(corners: &[Point3; 3]) -> (Real, Real) {
-    let [a, b, c] = corners;
-    let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
-    let area = 0.5 * (b - a).cross(&(c - a)).norm();
-    (longest, 2.0 * area.sqrt())
+/// A face's spacing (`√2` times its [`reach`]: the spacing of a square grid whose samples
+/// reach as far) and `2·√area`, which decide its [`subdivisions`].
+fn face_scale([a, b, c]: &[Point3; 3]) -> (Real, Real) {
+    let (ab, bc, ca) = (b - a, c - b, a - c);
+    // Squared sides, each opposite its corner, and twice the area squared.
+    let sides = [bc.norm_squared(), ca.norm_squared(), ab.norm_squared()];
+    let cross = ab.cross(&ca).norm_squared();
+    let reach = reach(sides, cross);
+    (
+        std::f64::consts::SQRT_2 * reach,
+        2.0 * (0.5 * cross.sqrt()).sqrt(),
+    )
 }
 
-fn subdivisions_of((longest, root): (Real, Real), resolution: Real) -> usize {
-    let by_edge = (longest / resolution).ceil();
+/// The farthest any point of a triangle lies from its nearest corner, from its squared sides
+/// and its squared doubled area: the circumradius `abc / (4·area)` of a triangle without an
+/// obtuse angle; for an obtuse one, the farther of the two points of the long side as far
+/// from the obtuse corner as from the near end (`b²·c / (b² + c² − a²)`, with `c` the long
+/// side and `b` the side from that end to the obtuse corner). At most the longest side, which
+/// it falls back to where the formulas divide by nothing (a collapsed triangle).
+fn reach(sides: [Real; 3], cross: Real) -> Real {
+    let [x, y, z] = sides;
+    let longest = x.max(y).max(z);
+    // The other two, in any order (selects, not branches: which is longest is a coin toss
+    // on a mesh of right triangles).
+    let (s, t) = if longest == x {
+        (y, z)
+    } else if longest == y {
+        (z, x)
+    } else {
+        (x, y)
+    };
+    let squared = if longest > s + t {
+        // Obtuse at the corner opposite the long side: from either end of it.
+        let near = (s / (s + longest - t)).max(t / (t + longest - s));
+        longest * near * near
+    } else {
+        s * t * longest / (4.0 * cross)
+    };
+    if squared.is_finite() {
+        squared.min(longest).sqrt()
+    } else {
+        longest.sqrt()
+    }
+}
+
+fn subdivisions_of((spacing, root): (Real, Real), resolution: Real) -> usize {
+    let by_spacing = (spacing / resolution).ceil();
     let by_area = (root / resolution).ceil();
-    by_edge.min(by_area).max(1.0) as usize
+    by_spacing.min(by_area).max(1.0) as usize
 }
 
 /// Steps of the bisection in [`fit_resolution`] at most.
@@ -85,7 +126,7 @@ pub fn fit_resolution(mesh: &TriMesh, faces: &[u32], resolution: Real, budget: u
     // From this resolution on every face has one subdivision: coarser changes nothing.
     let coarsest = scales
         .iter()
-        .fold(resolution, |m, &(longest, root)| m.max(longest.min(root)));
+        .fold(resolution, |m, &(spacing, root)| m.max(spacing.min(root)));
     if count(coarsest) > budget {
         return coarsest;
     }
@@ -184,6 +225,31 @@ pub fn sample_faces(
         let k = k as usize;
         let kk = k as u32;
         let normal = geometry.normals()[f];
+        if k == 1 {
+            // Unsplit (most faces of a mesh finer than the resolution): its corners, placed
+            // and weighed as the grid below would (the same sums, to the bit).
+            grid_start.push(grids.len());
+            sampled_as[f] = n as u32;
+            let third = geometry.areas()[f] / 3.0;
+            let mut ids = [0u32; 3];
+            for (corner, (i, j)) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)].into_iter().enumerate() {
+                let v = tri[corner] as usize;
+                if at_vertex[v] == u32::MAX {
+                    at_vertex[v] = out.positions.len() as u32;
+                    out.positions.push(a + (b - a) * i + (c - a) * j);
+                    out.normals.push(Vector3::zeros());
+                    out.weights.push(0.0);
+                }
+                ids[corner] = at_vertex[v];
+            }
+            grids.extend(ids);
+            for s in ids.map(|s| s as usize) {
+                out.weights[s] += third;
+                out.normals[s] += normal * (3.0 * third);
+            }
+            out.triangles.push(ids);
+            continue;
+        }
         // Per slot: the grid of the face across, sampled before with the same k, its slot for
         // this edge, and whether it runs the same way.
         let across = adjacency.neighbours(f);
@@ -418,7 +484,8 @@ mod tests {
         .unwrap();
         let geometry = FaceGeometry::new(&mesh);
         let s = sample_faces(&mesh, &FaceAdjacency::new(&mesh), &geometry, &[0], 1.5).unwrap();
-        // k = ceil(2√2 / 1.5) = 2: 6 samples, 4 sub-triangles.
+        // Reach √2 (half the long side), spacing 2: k = ceil(2 / 1.5) = 2: 6 samples, 4
+        // sub-triangles.
         assert_eq!((s.positions.len(), s.triangles.len()), (6, 4));
         let total: Real = s.weights.iter().sum();
         assert!((total - 2.0).abs() < 1e-12);
@@ -449,6 +516,162 @@ mod tests {
         ]);
         triangles.push([s, s + 2, s + 1]);
         TriMesh::new(positions, triangles).unwrap()
+    }
+
+    /// The farthest point of a triangle from its corners, searched on a barycentric grid of
+    /// `n` steps (a lower bound, within the grid's step of the truth).
+    fn reach_by_search([a, b, c]: &[Point3; 3], n: usize) -> Real {
+        let mut far: Real = 0.0;
+        for j in 0..=n {
+            for i in 0..=(n - j) {
+                let (u, v) = (i as Real / n as Real, j as Real / n as Real);
+                let p = a + (b - a) * u + (c - a) * v;
+                let near = [a, b, c].map(|q| (p - q).norm());
+                far = far.max(near[0].min(near[1]).min(near[2]));
+            }
+        }
+        far
+    }
+
+    /// Deterministic pseudo-random numbers in [0, 1).
+    fn uniform(state: &mut u64) -> Real {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*state >> 11) as Real / (1u64 << 53) as Real
+    }
+
+    #[test]
+    fn the_reach_is_the_farthest_point_from_the_corners() {
+        let p = |x: Real, y: Real| Point3::new(x, y, 0.0);
+        let h = (3.0 as Real).sqrt() / 2.0;
+        let mut triangles = vec![
+            // Equilateral: the circumradius 1/√3.
+            (
+                [p(0.0, 0.0), p(1.0, 0.0), p(0.5, h)],
+                Some(1.0 / (3.0 as Real).sqrt()),
+            ),
+            // Right: half the hypotenuse.
+            ([p(0.0, 0.0), p(3.0, 0.0), p(0.0, 4.0)], Some(2.5)),
+            // Obtuse (120° at the apex, sides 1): the points a third of the long side in.
+            (
+                [p(0.0, 0.0), p(2.0 * h, 0.0), p(h, 0.5)],
+                Some(2.0 * h / 3.0),
+            ),
+            // A sliver with its apex off the middle.
+            ([p(0.0, 0.0), p(10.0, 0.0), p(3.0, 0.01)], None),
+        ];
+        let mut state = 7;
+        for _ in 0..200 {
+            let mut q = || {
+                let x = uniform(&mut state);
+                let y = uniform(&mut state);
+                Point3::new(x, y, uniform(&mut state))
+            };
+            triangles.push(([q(), q(), q()], None));
+        }
+        for (corners, expected) in &triangles {
+            let [a, b, c] = corners;
+            let sides = [
+                (c - b).norm_squared(),
+                (a - c).norm_squared(),
+                (b - a).norm_squared(),
+            ];
+            let r = reach(sides, (b - a).cross(&(a - c)).norm_squared());
+            if let Some(e) = expected {
+                assert!((r - e).abs() < 1e-12, "{corners:?}: {r} against {e}");
+            }
+            let longest = sides.iter().fold(0.0, |m: Real, &s| m.max(s)).sqrt();
+            let searched = reach_by_search(corners, 400);
+            assert!(
+                searched <= r + 1e-12,
+                "{corners:?}: a point {searched} away, reach {r}"
+            );
+            assert!(
+                r - searched <= longest / 400.0,
+                "{corners:?}: reach {r}, searched {searched}"
+            );
+        }
+        // A collapsed triangle: its longest side, not a division by nothing.
+        let sides = [1.0, 1.0, 0.0];
+        assert_eq!(reach(sides, 0.0), 1.0);
+        assert_eq!(reach([0.0; 3], 0.0), 0.0);
+    }
+
+    #[test]
+    fn every_point_lies_within_the_resolution_over_root_two_of_a_sample() {
+        // Random triangles over a bumpy square, sampled at a resolution about their size.
+        let mut state = 11;
+        let n = 6;
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, y) = (i as Real, j as Real);
+                let jitter = 0.35;
+                positions.push(Point3::new(
+                    x + jitter * (uniform(&mut state) - 0.5),
+                    y + jitter * (uniform(&mut state) - 0.5),
+                    0.3 * uniform(&mut state),
+                ));
+            }
+        }
+        let at = |i: u32, j: u32| j * (n + 1) + i;
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        let mesh = TriMesh::new(positions, triangles).unwrap();
+        let (adjacency, geometry) = (FaceAdjacency::new(&mesh), FaceGeometry::new(&mesh));
+        let faces: Vec<u32> = (0..mesh.triangle_count() as u32).collect();
+        for resolution in [0.3, 0.7, 1.0, 2.0] {
+            let s = sample_faces(&mesh, &adjacency, &geometry, &faces, resolution).unwrap();
+            let bound = resolution / std::f64::consts::SQRT_2 + 1e-12;
+            let mut subdivided = false;
+            for &f in &faces {
+                let corners = mesh.corners(f as usize);
+                let (spacing, root) = face_scale(&corners);
+                // (Slivers, split by their area, are the documented exception.)
+                assert!(spacing <= root, "face {f} is a sliver");
+                subdivided |= subdivisions(&corners, resolution) > 1;
+                let [a, b, c] = corners;
+                let steps = 30;
+                for j in 0..=steps {
+                    for i in 0..=(steps - j) {
+                        let (u, v) = (i as Real / steps as Real, j as Real / steps as Real);
+                        let p = a + (b - a) * u + (c - a) * v;
+                        let near = s
+                            .positions
+                            .iter()
+                            .fold(Real::INFINITY, |m, q| m.min((p - q).norm()));
+                        assert!(
+                            near <= bound,
+                            "resolution {resolution}: {p:?} {near} from a sample"
+                        );
+                    }
+                }
+            }
+            // Split at the finer resolutions, sampled at the vertices at the coarsest.
+            assert_eq!(subdivided, resolution < 2.0, "resolution {resolution}");
+        }
+    }
+
+    #[test]
+    fn a_grid_of_squares_of_the_resolution_is_sampled_at_its_vertices() {
+        // Squares of side 1 cut along a diagonal of √2: at resolution 1 (and a rounding) the
+        // samples of a square grid 1 apart reach as far as the vertices do.
+        let mesh = grid_and_sliver(10);
+        let (adjacency, geometry) = (FaceAdjacency::new(&mesh), FaceGeometry::new(&mesh));
+        let faces: Vec<u32> = (0..mesh.triangle_count() as u32).collect();
+        let at = |r: Real| {
+            let s = sample_faces(&mesh, &adjacency, &geometry, &faces, r).unwrap();
+            (s.positions.len(), s.triangles.len())
+        };
+        assert_eq!(at(1.0 + 1e-12), (mesh.vertex_count(), faces.len()));
+        // A little finer: every square's triangles split in four, the sliver not.
+        assert_eq!(at(0.99), (21 * 21 + 3, 4 * 200 + 1));
     }
 
     #[test]

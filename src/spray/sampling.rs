@@ -196,8 +196,8 @@ pub(super) fn sample_sets(
             if count > COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real {
                 full.thinned(cell, radius)
             } else {
-                // On a mesh a little coarser than the cell, a face's longest edge sets its
-                // subdivisions and its shorter ones get samples closer than the cell: the
+                // On a mesh a little coarser than the cell, a face's reach sets its
+                // subdivisions and its shorter edges get samples closer than the cell: the
                 // full samples thinned to the cell may then be markedly fewer.
                 let area: Real = full.samples.weights.iter().sum();
                 let dense = cell <= COARSE_THINNED_CELL_RATIO * radius

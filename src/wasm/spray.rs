@@ -15,7 +15,10 @@ export interface SprayQualityLimits { maxStdDev?: number; maxError?: number; min
 export interface SprayPlanParams {
   spacing: number; standoff: number; speed: number; flowRate: number; coneAngle: number;
   transitionAngle: number; efficiency?: number; direction?: [number, number, number];
-  rasterAngle?: number; extension?: number; timeStep?: number; resolution?: number;
+  rasterAngle?: number; extension?: number; timeStep?: number;
+  /** Distance between evaluation samples: every point of the patch lies within
+   *  resolution/√2 of one, as on a square grid that far apart. */
+  resolution?: number;
   /** Most evaluation samples wanted: a finer resolution is coarsened to fit (plan.resolution). */
   sampleBudget?: number;
   edgeExclusion?: number; quality?: SprayQualityLimits; targetThickness?: number;
