@@ -265,7 +265,8 @@ impl Mesh {
     }
 
     /// Geodesic distance from `source` (see `GeodesicSource`) over the mesh or
-    /// `params.faces`, by `params.method` ("mesh", default, or "voxel" with `voxelSize`).
+    /// `params.faces`, by `params.method` (see `GeodesicParams`: "accurate" by default,
+    /// "exact", "fast", or "voxel" with `voxelSize`).
     /// Throws an `Error` naming a bad source or parameter. `onProgress(stage, fraction)` is
     /// optional.
     #[wasm_bindgen(js_name = geodesicDistance)]
