@@ -763,6 +763,55 @@ fn virtual_sources_go_round_a_hole_not_across_it() {
     }
 }
 
+#[test]
+fn a_point_source_keeps_to_a_holes_shadow_far_beyond_its_rim() {
+    // A plate of 40 × 80 unit squares (diagonals alternating) without the squares whose
+    // centres lie within 3 of (20, 20); the source is the vertex (20, 12), so the hole's
+    // shadow runs on for some 57 rings, beyond the rings near the rim where every offer is
+    // walked back. At its edges a vertex was offered the source straight through the hole
+    // by a lit neighbour and handed it on inwards (0.0098 short of the exact distance at
+    // (2, 53)); now an offer whose crossed edge ends at a vertex whose path bent at a rim
+    // the offer's did not is walked back all the way (see `virtual_source/shadow.rs`).
+    let (w, l) = (40u32, 80u32);
+    let at = |i: u32, j: u32| j * (w + 1) + i;
+    let positions = (0..=l)
+        .flat_map(|j| (0..=w).map(move |i| Point3::new(i as Real, j as Real, 0.0)))
+        .collect();
+    let mut triangles = Vec::new();
+    for j in 0..l {
+        for i in 0..w {
+            let c = Point3::new(i as Real + 0.5, j as Real + 0.5, 0.0);
+            if (c - Point3::new(20.0, 20.0, 0.0)).norm() < 3.0 {
+                continue;
+            }
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            if (i + j) % 2 == 0 {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    let s = shape(positions, triangles);
+    let source = GeodesicSource::Vertices(vec![at(20, 12)]);
+    let exact = distance(&s, &source, Method::Exact).vertex_distance;
+    let field = distance(&s, &source, Method::Accurate);
+    assert_eq!(field.method, Method::Accurate);
+    let (mut short, mut long, mut shadowed) = (0.0 as Real, 0.0 as Real, 0);
+    let p = s.mesh.positions();
+    for (v, (a, e)) in field.vertex_distance.iter().zip(&exact).enumerate() {
+        if e.is_finite() {
+            short = short.max(e - a);
+            long = long.max(a - e);
+            // Behind the hole the exact path goes round it: longer than the straight line.
+            shadowed += usize::from(*e > (p[v] - Point3::new(20.0, 12.0, 0.0)).norm() + 1e-6);
+        }
+    }
+    assert!(shadowed > 1000, "{shadowed} vertices in the shadow");
+    assert!(short < 1e-3, "{short} short of exact");
+    assert!(long < 1e-3, "{long} beyond exact");
+}
+
 /// A closed can of radius 1 and height `h` around z with `around` sides, its caps in `caps`
 /// rings, its side in `rings`; each ring turned by `twist` radians from the one before (the
 /// side's quads then fold along their diagonals, and the rim is a crease of varying angle).

@@ -17,7 +17,7 @@ use super::iso_lines::{contour, IsoLine};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
 use super::source::{boundary_loops, resolve, GeodesicSource};
 use super::surface::Surface;
-use super::unfolding::boundary_turn;
+use super::unfolding::is_hole_rim;
 use super::voxel::{propagate as voxel_propagate, voxelise, VoxelField};
 use super::voxel_paths::order_level;
 use crate::math::{Real, Vector3};
@@ -42,17 +42,16 @@ const EXACT_FIRST_FACES: usize = 100_000;
 /// have defects far below it (a 500k-triangle sphere: 5·10⁻⁵), and corners stay corners
 /// however fine the mesh.
 const CORNER_DEFECT: Real = 0.05;
-/// ...or with a hole: a boundary loop whose vertices' face angles, less π each, sum to more
-/// than this (radians). The rim of a hole in a flat plate sums to 2π, an outer boundary to
-/// −2π (jagged or not: its notches and teeth cancel), a tube's rims to 0. Virtual sources
-/// are held to the shadow a hole casts only near its rim (see `virtual_source/shadow.rs`):
+/// ...or with a hole (a boundary loop that turns as a hole's rim does, see
+/// [`HOLE_TURNING`](super::unfolding::HOLE_TURNING)). Virtual sources are held to the shadow a hole casts only near its rim, and a point source along the
+/// shadow's edge (see `virtual_source/shadow.rs`):
 /// on Orion's heat shield (5,694 faces, six holes about 1.3 ft across), from its section by
 /// the plane x = 0, they are up to 0.50 ft short of the exact distance behind a hole (1.2
 /// before that walk; no corner there, so the exact method would not be tried); on the cap
 /// R 1000 mm of 60k faces with a hole 120 mm across, from a plane section, 0.22 mm (15
-/// before), from a vertex 2.3 mm. Larger surfaces, and a try over its budget, keep that
-/// error (see "Limits" in `virtual_source.rs`).
-const HOLE_TURNING: Real = std::f64::consts::PI;
+/// before; from a vertex, held to the shadow's edge all the way back, 0.000). Larger
+/// surfaces, and a try over its budget, keep that error (see "Limits" in
+/// `virtual_source.rs`).
 /// Windows per face the exact method may process there (measured on whole aircraft models
 /// from a vertex: 19–32 per face on a BWB, 45–46 on a wing-body, 35–59 on Orion). A try on
 /// course to overrun it gives up early (see `exact::PROJECTED_OVERRUN`): from the nose of the
@@ -198,7 +197,7 @@ pub fn geodesic_distance(
 /// Windows the accurate method lets the exact one process first (`None`: it does not try):
 /// `given` when set (`Some(0)`: never), else [`EXACT_FIRST_WINDOWS_PER_FACE`] per face (at
 /// least [`EXACT_FIRST_MIN_WINDOWS`]) on a surface of at most [`EXACT_FIRST_FACES`] faces
-/// with a corner (see [`CORNER_DEFECT`]) or a hole (see [`HOLE_TURNING`]). O(F log F).
+/// with a corner (see [`CORNER_DEFECT`]) or a hole (see [`HOLE_TURNING`](super::unfolding::HOLE_TURNING)). O(F log F).
 fn exact_first_budget(surface: &Surface, given: Option<u64>) -> Option<u64> {
     if let Some(w) = given {
         return (w > 0).then_some(w);
@@ -216,14 +215,11 @@ fn exact_first_budget(surface: &Surface, given: Option<u64>) -> Option<u64> {
 }
 
 /// Whether a boundary loop of `surface` turns as the rim of a hole does (see
-/// [`HOLE_TURNING`]).
+/// [`HOLE_TURNING`](super::unfolding::HOLE_TURNING)).
 fn has_hole(surface: &Surface) -> bool {
-    boundary_loops(surface).iter().any(|l| {
-        l.iter()
-            .map(|&v| boundary_turn(surface, v as usize))
-            .sum::<Real>()
-            > HOLE_TURNING
-    })
+    boundary_loops(surface)
+        .iter()
+        .any(|l| is_hole_rim(surface, l))
 }
 
 impl DistanceField {

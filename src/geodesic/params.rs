@@ -54,7 +54,7 @@ pub enum Method {
     /// fronts meet) at the cost of fast marching. The default. On a small surface with a
     /// corner or a hole, where the exact method finishes within a budget of windows (a whole
     /// coarse aircraft model, a panel with cut-outs: corners are where virtual sources err
-    /// most, they are not held to the shadow of a hole, and few faces make the exact method
+    /// most, they are held to the shadow of a hole only partly, and few faces make the exact method
     /// cheap), the exact distance instead, and the field reports
     /// [`Method::Exact`] (see [`DistanceParams::exact_first_windows`]).
     Accurate,

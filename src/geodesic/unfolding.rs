@@ -304,6 +304,21 @@ pub(super) fn boundary_turn(surface: &Surface, v: usize) -> Real {
     angles - std::f64::consts::PI
 }
 
+/// A boundary loop turns as the rim of a hole does when its vertices' [`boundary_turn`]s
+/// sum to more than this (radians): the rim of a hole in a flat plate sums to 2π, an outer
+/// boundary to −2π (jagged or not: its notches and teeth cancel), a tube's rims to 0.
+pub(super) const HOLE_TURNING: Real = std::f64::consts::PI;
+
+/// Whether the boundary loop through `vertices` turns as the rim of a hole does (see
+/// [`HOLE_TURNING`]).
+pub(super) fn is_hole_rim(surface: &Surface, vertices: &[u32]) -> bool {
+    vertices
+        .iter()
+        .map(|&v| boundary_turn(surface, v as usize))
+        .sum::<Real>()
+        > HOLE_TURNING
+}
+
 /// The corner of face `f` at vertex `v` (its slot in the triangle) and the face's angle
 /// there.
 pub(super) fn corner_angle(surface: &Surface, f: usize, v: usize) -> (usize, Real) {

@@ -56,15 +56,15 @@
 //!         each face around it twice.
 //! Limits: a source is offered on wherever the ray from it crosses the last edge before
 //!         the vertex and, near a reflex part of the boundary (the rim of a hole), where the
-//!         ray crosses faces for [`shadow::SHADOW_STEPS`] faces back (see `shadow.rs`).
-//!         Farther back nothing holds it to the part of the surface it can see past the rim
-//!         of a hole, and a source carried on past a hole can still fall short far beyond
-//!         it: the cap R 1000 of 60k faces with a hole 120 mm across, from a vertex on the
-//!         far side, 2.3 mm short across the pole, about a metre beyond the hole (from a
-//!         plane section there 0.22 mm; at 239k faces 0.08 and 0.11 mm; before the walk 7.8
-//!         and 15.4 mm). On
-//!         surfaces of up to 100k faces with a hole the exact method answers first, within
-//!         its budget (see `field.rs`).
+//!         ray crosses faces for [`shadow::SHADOW_STEPS`] faces back (see `shadow.rs`); a
+//!         point source at the edge of a hole's shadow, all the way back. Farther back
+//!         nothing holds a source curve to the part of the surface it can see past the rim
+//!         of a hole: the cap R 1000 with a hole 120 mm across, from a plane section on the
+//!         far side, 0.22 mm short at 60k faces and 0.11 mm at 239k (before the walk 15.4
+//!         and 14.6 mm; from a vertex there 0.000 at both, 7.8 and 7.1 mm before); Orion's
+//!         heat shield subdivided to 364k faces from the plane x = 0, 0.09 ft. On surfaces of
+//!         up to 100k faces with a hole the exact method answers first, within its budget
+//!         (see `field.rs`).
 //! Deviations (no paper):
 //!   - A virtual source is a *segment* `[p, q]` (distance `σ + dist(x, [p, q])`): a point
 //!     when `p = q`, otherwise the straight run of a source curve nearest to the vertex (the
@@ -289,6 +289,15 @@ pub(super) struct Solver<'a> {
     /// surface has a gap), near which offers are walked back (see `shadow.rs`); empty on a
     /// surface with none and in the focal patches.
     gap_rings: Vec<u8>,
+    /// Per vertex, the reflex boundary vertex its source bent at last ([`shadow::NO_RIM`]
+    /// for none): where an offer's source and the crossed edge's other end differ here, the
+    /// offer is walked back all the way (see `shadow.rs`); empty until a path bends at one.
+    rim: Vec<u32>,
+    /// Faces the walks all the way back may still cross (see `shadow.rs`).
+    long_walks: std::cell::Cell<usize>,
+    /// Per vertex, whether it lies on the rim of a hole; empty where [`Self::gap_rings`] is
+    /// or no boundary loop turns as a hole's rim does.
+    hole_rim: Vec<bool>,
 }
 
 impl<'a> Solver<'a> {
@@ -315,6 +324,9 @@ impl<'a> Solver<'a> {
             piece: Vec::new(),
             pieces: Vec::new(),
             gap_rings: Vec::new(),
+            rim: Vec::new(),
+            long_walks: std::cell::Cell::new(shadow::LONG_WALK_FACES * surface.faces.len()),
+            hole_rim: Vec::new(),
         }
     }
 
@@ -451,16 +463,28 @@ impl<'a> Solver<'a> {
         }
         // Near a boundary, a ray that left the surface on its way is refused (see
         // `shadow.rs`); one that starts on the edge it crosses (a source on a border) is not.
-        if !self.gap_rings.is_empty()
-            && usize::from(self.face_gap_rings(t)) < shadow::SHADOW_STEPS
-            && tau > CROSSING_TOLERANCE
-            && self.through_a_gap(&f, &(f + w * tau), t, a, b)
-        {
-            return None;
+        // Where the crossed edge's other end holds a source that bent at another rim, the
+        // ray is walked all the way back: it may run along the edge of a hole's shadow.
+        let giver = if other == b { a } else { b };
+        if !self.gap_rings.is_empty() && tau > CROSSING_TOLERANCE {
+            let steps = if s.p == s.q
+                && self
+                    .rim
+                    .get(other)
+                    .is_some_and(|&r| r != shadow::NO_RIM && r != self.rim[giver])
+            {
+                shadow::LONG_WALK
+            } else if usize::from(self.face_gap_rings(t)) < shadow::SHADOW_STEPS {
+                shadow::SHADOW_STEPS
+            } else {
+                0
+            };
+            if steps > 0 && self.through_a_gap(&f, &(f + w * tau), t, a, b, steps) {
+                return None;
+            }
         }
         // A point source walked round a sharp vertex holds only in its wedge (see `wedge.rs`);
         // beyond it, the path bends at the wedge's side, held to the same checks.
-        let giver = if other == b { a } else { b };
         if !self.wedge.is_empty() && s.p == s.q && !self.wedge[giver].is_open() {
             if let Some(bend) = self.beyond_wedge(s, t, &px, giver, other, n) {
                 return bend;
@@ -562,8 +586,21 @@ impl<'a> Solver<'a> {
                     self.piece[giver]
                 };
             }
-            if self.wedge.is_empty() && self.bends_at_a_gap(&s, giver) {
+            let at_a_rim = self.bends_at_a_gap(&s, giver);
+            if self.wedge.is_empty() && at_a_rim {
                 self.wedge = vec![Wedge::OPEN; self.dist.len()];
+            }
+            // The rim of a hole (not a notch of an outer border) casts a shadow.
+            let at_a_hole = at_a_rim && self.hole_rim.get(giver) == Some(&true);
+            if self.rim.is_empty() && at_a_hole {
+                self.rim = vec![shadow::NO_RIM; self.dist.len()];
+            }
+            if !self.rim.is_empty() {
+                self.rim[x] = if at_a_hole {
+                    giver as u32
+                } else {
+                    self.rim[giver]
+                };
             }
             if !self.wedge.is_empty() {
                 self.pass_wedge(x, &s, giver, walked);
@@ -675,12 +712,13 @@ pub(crate) fn propagate(
     let nv = mesh.vertex_count();
     // Worst case: a source, distance, two flags, a queue entry and its index, the source
     // vertex or curve piece it comes from (one or the other), a wedge and a cached angle
-    // defect (see `wedge.rs`), and the rings to a gap (see `shadow.rs`) per vertex,
+    // defect (see `wedge.rs`), and the rings to a gap, the rim bent at and whether on a
+    // hole's rim (see `shadow.rs`) per vertex,
     // the face normals (held by the surface) and the focal patches.
     let per_vertex = std::mem::size_of::<Virtual>()
         + std::mem::size_of::<Entry>()
         + std::mem::size_of::<Wedge>()
-        + 23;
+        + 28;
     let bytes = nv as u64 * per_vertex as u64
         + mesh.triangle_count() as u64 * std::mem::size_of::<Vector3>() as u64
         + focal::budget(surface.faces.len()) as u64 * focal::BYTES_PER_FACE;
@@ -693,6 +731,9 @@ pub(crate) fn propagate(
     let mut s = Solver::new(surface);
     // Not in the focal patches below: their borders are cuts, not gaps.
     s.gap_rings = shadow::rings_to_a_gap(surface);
+    if !s.gap_rings.is_empty() {
+        s.hole_rim = shadow::on_hole_rims(surface);
+    }
     if source.curves.is_empty() {
         s.origin = vec![0; nv];
         s.origins = source.vertices.iter().map(|&v| pos[v as usize]).collect();

@@ -1,8 +1,10 @@
 //! Rays that come through a gap in the surface: near a reflex part of its boundary (the rim
 //! of a hole, a notch in a border), an offer's ray is walked back face by face from the edge
-//! it crosses towards its source, and refused where it leaves the surface on the way; and a
-//! path bending at such a rim holds only over the rim vertex's own faces (see
-//! `wedge.rs`, `rim_wedge`).
+//! it crosses towards its source, and refused where it leaves the surface on the way; a
+//! point source's offer across an edge whose other end holds a path that bent at the rim of
+//! a hole the offer's did not (the edge of the shadow the hole casts, however far from it)
+//! is walked back all the way; and a path bending at such a rim holds only over the rim
+//! vertex's own faces (see `wedge.rs`, `rim_wedge`).
 //!
 //! Source: none. The paper (Trettner, Bommes & Kobbelt 2021) propagates over closed
 //!         surfaces. Here an offer is checked where its ray crosses the last edge before the
@@ -15,16 +17,22 @@
 //! Input:  an offer's foot on its source and the point where its ray crosses the edge before
 //!         the vertex, in the plane of the vertex's face.
 //! Output: whether the ray leaves the surface (crosses an edge with no face beyond) within
-//!         [`SHADOW_STEPS`] faces back; the offer is then refused, and the vertex takes
-//!         another offer or the path bending at the settled vertex (on the rim, a point
-//!         source there that holds over its faces).
+//!         [`SHADOW_STEPS`] faces back ([`LONG_WALK`] at a shadow's edge); the offer is then
+//!         refused, and the vertex takes another offer or the path bending at the settled
+//!         vertex (on the rim, a point source there that holds over its faces).
 //! Why:    the cap R 1000 with a hole 120 mm across (from the section by a plane on its far
 //!         side; from a vertex there), most short of the exact distance, before → after:
 //!         9.6k faces 16.7 → 0.22 mm and 6.1 → 0.10 mm; 60k faces 15.4 → 0.22 and 7.8 →
 //!         2.3 mm; 239k faces 14.6 → 0.11 and 7.1 → 0.08 mm. Orion's heat shield (5,694
 //!         faces, six holes about 1.3 ft across) from the plane x = 0: 1.20 → 0.50 ft.
 //!         The bench's caps and sphere, and the five real models' patches from their
-//!         boundaries, are unchanged to the bit.
+//!         boundaries, are unchanged to the bit. The walk at a shadow's edge: the point source
+//!         on the far side of the 60k cap fell 2.3 mm short across the pole, a metre beyond
+//!         the hole (0.000 now; 0.08 → 0.000 mm at 239k faces). A vertex just inside the
+//!         shadow, more rings from the rim than are walked, was offered the source straight
+//!         through the hole by a lit neighbour before the path round the rim reached it (the
+//!         straight ray is the shorter, so its front runs ahead), took it, and handed it on
+//!         inwards.
 //! Deviations: the foot is moved from face to face by the rotation taking one face's normal
 //!         to the next about their shared edge (an unfolding along the ray, not the rotation
 //!         about the settled vertex that carried the source). A ray that left the surface no
@@ -32,11 +40,17 @@
 //!         is kept: a piece of a border run on along its line lies off the surface where the
 //!         border turns away. Only faces within [`SHADOW_STEPS`] rings of a reflex boundary
 //!         vertex are walked (a ray leaves the surface and comes back only past one), and a
-//!         walk stops where the boundary is more rings away than faces are left. Limits: a
-//!         ray that left the surface farther back is not seen, and a source carried on past
-//!         a hole can still fall short far beyond it (the cap of 60k faces from a vertex:
-//!         2.3 mm short across the pole, about a metre beyond the hole; 0.10 and 0.08 mm at
-//!         9.6k and 239k faces).
+//!         walk stops where the boundary is more rings away than faces are left. The walk
+//!         all the way back starts only at the shadows of holes (loops that turn as a hole's
+//!         rim does, not the notches of an outer border), and beyond [`SHADOW_STEPS`] faces
+//!         it refuses only a ray that leaves through a hole's rim: a ray that runs beside a
+//!         jagged outer border (a patch's, cut along the faces) leaves it at a notch, where
+//!         the path round the notches is not found. It is for point sources only: from a
+//!         curve, a piece that ends on such a border sends its rays along it (the heat shield
+//!         from x = 0: distances up to 0.11 ft too long where the walk of [`SHADOW_STEPS`]
+//!         gave 0.078).
+//!         Limits: from a curve, a ray that left the surface more than [`SHADOW_STEPS`] faces
+//!         back is not seen (the heat shield subdivided to 364k faces: 0.09 ft short).
 //! Cost:   nothing on a surface with no reflex boundary vertex (the bench's caps and sphere,
 //!         to the bit and within the noise in time). Otherwise the rings from those
 //!         vertices (a breadth-first search, a byte a vertex) and, for offers into faces
@@ -44,11 +58,15 @@
 //!         each a rotation and two crossing tests: Orion's heat shield subdivided to 91k and
 //!         364k faces, from the plane x = 0, 54 → 72 and 174 → 232 ms natively (most short of
 //!         the exact distance 0.96 → 0.061 and 0.96 → 0.091 ft; the exact method 10 and
-//!         102 s).
+//!         102 s). The walks all the way back cross at most [`LONG_WALK`] faces each and
+//!         [`LONG_WALK_FACES`] per face of the surface in all (then the walk near a boundary
+//!         only): from a vertex, 0.7–0.9 faces per face on that heat shield and 1.8 on the
+//!         holed caps; 3–6 % more time at 364k faces.
 
 use super::{Rotation, Solver, CROSSING_TOLERANCE, FOLD_COSINE};
+use crate::geodesic::source::boundary_loops;
 use crate::geodesic::surface::Surface;
-use crate::geodesic::unfolding::boundary_turn;
+use crate::geodesic::unfolding::{boundary_turn, is_hole_rim};
 use crate::math::{Point3, Real};
 
 /// Faces an offer's ray is walked back at most, and the rings of vertices round a reflex
@@ -58,6 +76,14 @@ use crate::math::{Point3, Real};
 pub(super) const SHADOW_STEPS: usize = 32;
 /// More rings from a boundary than a walk can cross.
 pub(super) const FAR: u8 = u8::MAX;
+/// A source that bent at no reflex boundary vertex (see `Solver::rim`).
+pub(super) const NO_RIM: u32 = u32::MAX;
+/// Faces a walk all the way back crosses at most (no paper: far more than a ray crosses on
+/// the meshes measured; a longer ray is let through)...
+pub(super) const LONG_WALK: usize = 1 << 14;
+/// ...and all of them together, per face of the surface (so the walks stay linear in its
+/// size; beyond, offers get the walk of [`SHADOW_STEPS`] faces near a boundary only).
+pub(super) const LONG_WALK_FACES: usize = 4;
 /// How far (radians) the faces' angles at a boundary vertex must sum beyond π for the
 /// border to turn away there (no paper: far above rounding on a straight border, below the
 /// turn at each vertex of the rim of a hole a thousand edges round).
@@ -136,6 +162,23 @@ pub(super) fn rings_to_a_gap(surface: &Surface) -> Vec<u8> {
     ring
 }
 
+/// Per vertex, whether it lies on the rim of a hole (a boundary loop that turns as one does,
+/// see [`is_hole_rim`]); empty when no loop does.
+pub(super) fn on_hole_rims(surface: &Surface) -> Vec<bool> {
+    let mut on = Vec::new();
+    for l in boundary_loops(surface) {
+        if is_hole_rim(surface, &l) {
+            if on.is_empty() {
+                on = vec![false; surface.mesh.vertex_count()];
+            }
+            for v in l {
+                on[v as usize] = true;
+            }
+        }
+    }
+    on
+}
+
 impl Solver<'_> {
     /// The fewest rings between face `f`'s corners and a reflex boundary vertex (see
     /// [`rings_to_a_gap`]; `gap_rings` must not be empty). From one face to the next across
@@ -148,8 +191,9 @@ impl Solver<'_> {
     }
 
     /// Whether the ray from `foot` to `crossing`, a point of edge `a – b` of face `t` (both
-    /// in the plane of `t`, the foot beyond the edge), leaves the surface within
-    /// [`SHADOW_STEPS`] faces back from the edge.
+    /// in the plane of `t`, the foot beyond the edge), leaves the surface within `steps`
+    /// faces back from the edge: [`SHADOW_STEPS`], or [`LONG_WALK`] while the budget of
+    /// long walks lasts (then [`SHADOW_STEPS`] near a boundary and none elsewhere).
     #[inline(never)]
     pub(super) fn through_a_gap(
         &self,
@@ -158,20 +202,54 @@ impl Solver<'_> {
         t: usize,
         a: usize,
         b: usize,
+        steps: usize,
+    ) -> bool {
+        if steps > SHADOW_STEPS {
+            let left = self.long_walks.get();
+            if left >= steps {
+                let mut walked = 0;
+                let through = self.walk_back(foot, crossing, (t, a, b), steps, &mut walked, true);
+                self.long_walks.set(left - walked);
+                return through;
+            }
+            if usize::from(self.face_gap_rings(t)) >= SHADOW_STEPS {
+                return false;
+            }
+        }
+        self.walk_back(foot, crossing, (t, a, b), SHADOW_STEPS, &mut 0, false)
+    }
+
+    /// [`Self::through_a_gap`] within `steps` faces, counting the faces crossed in `walked`;
+    /// with `holes_only`, a ray that leaves farther back than [`SHADOW_STEPS`] faces through
+    /// an edge not on the rim of a hole (past a notch of an outer border it runs beside) is
+    /// let through.
+    #[inline(always)]
+    fn walk_back(
+        &self,
+        foot: &Point3,
+        crossing: &Point3,
+        (t, a, b): (usize, usize, usize),
+        steps: usize,
+        walked: &mut usize,
+        holes_only: bool,
     ) -> bool {
         let surface = self.surface;
         let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
         let normals = &surface.face_normals;
         let (mut g, mut a, mut b) = (t, a, b);
         let (mut c, mut f) = (*crossing, *foot);
-        // Each round moves one face back, so the walk ends after SHADOW_STEPS faces. The
-        // rings from a face to the boundary fall by one a face at most, so a walk that
-        // cannot reach it in the faces left stops.
-        for left in (0..SHADOW_STEPS).rev() {
+        // Each round moves one face back, so the walk ends after `steps` faces. The rings
+        // from a face to the boundary fall by one a face at most, so a walk that cannot
+        // reach it in the faces left stops.
+        for left in (0..steps).rev() {
+            *walked += 1;
             if usize::from(self.face_gap_rings(g)) > left {
                 return false;
             }
             let Some(h) = surface.across(g, slot(tris[g], a, b)) else {
+                if holes_only && *walked > SHADOW_STEPS && !(self.hole_rim[a] && self.hole_rim[b]) {
+                    return false;
+                }
                 // Nothing beyond the edge the ray crossed: it came from off the surface,
                 // unless from no farther than a source curve runs on beyond its ends (a
                 // piece of a border, run on along its line, lies off the surface where the
