@@ -289,8 +289,8 @@ pub(super) struct Solver<'a> {
     /// surface has a gap), near which offers are walked back (see `shadow.rs`); empty on a
     /// surface with none and in the focal patches.
     gap_rings: Vec<u8>,
-    /// Per vertex, the reflex boundary vertex its source bent at last ([`shadow::NO_RIM`]
-    /// for none): where an offer's source and the crossed edge's other end differ here, the
+    /// Per vertex, the vertex of a hole's rim its path bent at last ([`shadow::NO_RIM`] for
+    /// none): where a point source's offer and the crossed edge's other end differ here, the
     /// offer is walked back all the way (see `shadow.rs`); empty until a path bends at one.
     rim: Vec<u32>,
     /// Faces the walks all the way back may still cross (see `shadow.rs`).
@@ -463,8 +463,9 @@ impl<'a> Solver<'a> {
         }
         // Near a boundary, a ray that left the surface on its way is refused (see
         // `shadow.rs`); one that starts on the edge it crosses (a source on a border) is not.
-        // Where the crossed edge's other end holds a source that bent at another rim, the
-        // ray is walked all the way back: it may run along the edge of a hole's shadow.
+        // From a point source, where the crossed edge's other end holds a path that bent at
+        // another hole's rim, the ray is walked all the way back: it may run along the edge
+        // of a hole's shadow, however far from the hole.
         let giver = if other == b { a } else { b };
         if !self.gap_rings.is_empty() && tau > CROSSING_TOLERANCE {
             let steps = if s.p == s.q

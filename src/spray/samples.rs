@@ -48,13 +48,14 @@ fn subdivisions(corners: &[Point3; 3], resolution: Real) -> usize {
 /// reach as far) and `2·√area`, which decide its [`subdivisions`].
 fn face_scale([a, b, c]: &[Point3; 3]) -> (Real, Real) {
     let (ab, bc, ca) = (b - a, c - b, a - c);
-    // Squared sides, each opposite its corner, and twice the area squared.
+    // Squared sides, each opposite its corner, and the squared norm of a side's cross
+    // product with the next: (2·area)².
     let sides = [bc.norm_squared(), ca.norm_squared(), ab.norm_squared()];
-    let cross = ab.cross(&ca).norm_squared();
-    let reach = reach(sides, cross);
+    let doubled_area2 = ab.cross(&ca).norm_squared();
+    let reach = reach(sides, doubled_area2);
     (
         std::f64::consts::SQRT_2 * reach,
-        2.0 * (0.5 * cross.sqrt()).sqrt(),
+        2.0 * (0.5 * doubled_area2.sqrt()).sqrt(),
     )
 }
 
@@ -64,7 +65,7 @@ fn face_scale([a, b, c]: &[Point3; 3]) -> (Real, Real) {
 /// from the obtuse corner as from the near end (`b²·c / (b² + c² − a²)`, with `c` the long
 /// side and `b` the side from that end to the obtuse corner). At most the longest side, which
 /// it falls back to where the formulas divide by nothing (a collapsed triangle).
-fn reach(sides: [Real; 3], cross: Real) -> Real {
+fn reach(sides: [Real; 3], doubled_area2: Real) -> Real {
     let [x, y, z] = sides;
     let longest = x.max(y).max(z);
     // The other two, in any order (selects, not branches: which is longest is a coin toss
@@ -81,7 +82,8 @@ fn reach(sides: [Real; 3], cross: Real) -> Real {
         let near = (s / (s + longest - t)).max(t / (t + longest - s));
         longest * near * near
     } else {
-        s * t * longest / (4.0 * cross)
+        // R² = a²b²c² / (16·area²).
+        s * t * longest / (4.0 * doubled_area2)
     };
     if squared.is_finite() {
         squared.min(longest).sqrt()
@@ -492,14 +494,9 @@ mod tests {
         assert!(s.normals.iter().all(|n| (n.z - 1.0).abs() < 1e-12));
     }
 
-    /// A grid of `n` × `n` squares of side 1 split in two, plus one sliver 10 long.
-    fn grid_and_sliver(n: u32) -> TriMesh {
-        let mut positions = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                positions.push(Point3::new(i as Real, j as Real, 0.0));
-            }
-        }
+    /// The triangles of a grid of `(n + 1)²` vertices numbered row by row, each square cut
+    /// along the same diagonal.
+    fn grid_triangles(n: u32) -> Vec<[u32; 3]> {
         let at = |i: u32, j: u32| j * (n + 1) + i;
         let mut triangles = Vec::new();
         for j in 0..n {
@@ -508,6 +505,18 @@ mod tests {
                 triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
             }
         }
+        triangles
+    }
+
+    /// A grid of `n` × `n` squares of side 1 split in two, plus one sliver 10 long.
+    fn grid_and_sliver(n: u32) -> TriMesh {
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                positions.push(Point3::new(i as Real, j as Real, 0.0));
+            }
+        }
+        let mut triangles = grid_triangles(n);
         let s = positions.len() as u32;
         positions.extend([
             Point3::new(0.0, -1.0, 0.0),
@@ -615,14 +624,7 @@ mod tests {
                 ));
             }
         }
-        let at = |i: u32, j: u32| j * (n + 1) + i;
-        let mut triangles = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
+        let triangles = grid_triangles(n);
         let mesh = TriMesh::new(positions, triangles).unwrap();
         let (adjacency, geometry) = (FaceAdjacency::new(&mesh), FaceGeometry::new(&mesh));
         let faces: Vec<u32> = (0..mesh.triangle_count() as u32).collect();
