@@ -192,8 +192,9 @@ impl Solver<'_> {
 
     /// Whether the ray from `foot` to `crossing`, a point of edge `a – b` of face `t` (both
     /// in the plane of `t`, the foot beyond the edge), leaves the surface within `steps`
-    /// faces back from the edge: [`SHADOW_STEPS`], or [`LONG_WALK`] while the budget of
-    /// long walks lasts (then [`SHADOW_STEPS`] near a boundary and none elsewhere).
+    /// faces back from the edge: [`SHADOW_STEPS`], or [`LONG_WALK`] as far as the budget of
+    /// long walks allows (once it is spent, [`SHADOW_STEPS`] near a boundary and none
+    /// elsewhere).
     #[inline(never)]
     pub(super) fn through_a_gap(
         &self,
@@ -205,8 +206,11 @@ impl Solver<'_> {
         steps: usize,
     ) -> bool {
         if steps > SHADOW_STEPS {
+            // As far as the budget left allows (a walk cut short lets the ray through, as the
+            // walk near a boundary does beyond its faces).
             let left = self.long_walks.get();
-            if left >= steps {
+            let steps = steps.min(left);
+            if steps > SHADOW_STEPS {
                 let mut walked = 0;
                 let through = self.walk_back(foot, crossing, (t, a, b), steps, &mut walked, true);
                 self.long_walks.set(left - walked);
