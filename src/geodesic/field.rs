@@ -43,15 +43,14 @@ const EXACT_FIRST_FACES: usize = 100_000;
 /// however fine the mesh.
 const CORNER_DEFECT: Real = 0.05;
 /// ...or with a hole (a boundary loop that turns as a hole's rim does, see
-/// [`HOLE_TURNING`](super::unfolding::HOLE_TURNING)). Virtual sources are held to the shadow a hole casts only near its rim, and a point source along the
-/// shadow's edge (see `virtual_source/shadow.rs`):
-/// on Orion's heat shield (5,694 faces, six holes about 1.3 ft across), from its section by
-/// the plane x = 0, they are up to 0.50 ft short of the exact distance behind a hole (1.2
-/// before that walk; no corner there, so the exact method would not be tried); on the cap
-/// R 1000 mm of 60k faces with a hole 120 mm across, from a plane section, 0.22 mm (15
-/// before; from a vertex, held to the shadow's edge all the way back, 0.000). Larger
-/// surfaces, and a try over its budget, keep that error (see "Limits" in
-/// `virtual_source.rs`).
+/// [`HOLE_TURNING`](super::unfolding::HOLE_TURNING)). Virtual sources are held to the shadow a hole
+/// casts only near its rim, and a point source along the shadow's edge (see
+/// `virtual_source/shadow.rs`): on Orion's heat shield (5,694 faces, six holes about 1.3 ft
+/// across), from its section by the plane x = 0, they are up to 0.50 ft short of the exact distance
+/// behind a hole (1.2 before that walk; no corner there, so the exact method would not be tried);
+/// on the cap R 1000 mm of 60k faces with a hole 120 mm across, from a plane section, 0.22 mm (15
+/// before; from a vertex, held to the shadow's edge all the way back, 0.000). Larger surfaces, and
+/// a try over its budget, keep that error (see "Limits" in `virtual_source.rs`).
 /// Windows per face the exact method may process there (measured on whole aircraft models
 /// from a vertex: 19–32 per face on a BWB, 45–46 on a wing-body, 35–59 on Orion). A try on
 /// course to overrun it gives up early (see `exact::PROJECTED_OVERRUN`): from the nose of the
@@ -197,7 +196,8 @@ pub fn geodesic_distance(
 /// Windows the accurate method lets the exact one process first (`None`: it does not try):
 /// `given` when set (`Some(0)`: never), else [`EXACT_FIRST_WINDOWS_PER_FACE`] per face (at
 /// least [`EXACT_FIRST_MIN_WINDOWS`]) on a surface of at most [`EXACT_FIRST_FACES`] faces
-/// with a corner (see [`CORNER_DEFECT`]) or a hole (see [`HOLE_TURNING`](super::unfolding::HOLE_TURNING)). O(F log F).
+/// with a corner (see [`CORNER_DEFECT`]) or a hole (see
+/// [`HOLE_TURNING`](super::unfolding::HOLE_TURNING)). O(F log F).
 fn exact_first_budget(surface: &Surface, given: Option<u64>) -> Option<u64> {
     if let Some(w) = given {
         return (w > 0).then_some(w);

@@ -51,12 +51,12 @@ pub enum GeodesicError {
 pub enum Method {
     /// Dijkstra-ordered propagation of explicit virtual sources (see `virtual_source.rs`):
     /// near the exact polyhedral distance (second order in the edge length away from where
-    /// fronts meet) at the cost of fast marching. The default. On a small surface with a
-    /// corner or a hole, where the exact method finishes within a budget of windows (a whole
-    /// coarse aircraft model, a panel with cut-outs: corners are where virtual sources err
-    /// most, they are held to the shadow of a hole only partly, and few faces make the exact method
-    /// cheap), the exact distance instead, and the field reports
-    /// [`Method::Exact`] (see [`DistanceParams::exact_first_windows`]).
+    /// fronts meet) at the cost of fast marching. The default. On a small surface with a corner or
+    /// a hole, where the exact method finishes within a budget of windows (a whole coarse aircraft
+    /// model, a panel with cut-outs: corners are where virtual sources err most, they are held to
+    /// the shadow of a hole only partly, and few faces make the exact method cheap), the exact
+    /// distance instead, and the field reports [`Method::Exact`] (see
+    /// [`DistanceParams::exact_first_windows`]).
     Accurate,
     /// Per-vertex distance by unfolded wavefront propagation: fast, exact on developable
     /// surfaces, first order where fronts meet on doubly curved ones (see `unfolding.rs`);

@@ -471,6 +471,7 @@ const DENSE_CUBES_PER_SAMPLE: u64 = 8;
 
 #[cfg(test)]
 mod tests {
+    use super::super::normal_equations::tests::sequence;
     use super::*;
 
     #[test]
@@ -542,14 +543,6 @@ mod tests {
         far
     }
 
-    /// Deterministic pseudo-random numbers in [0, 1).
-    fn uniform(state: &mut u64) -> Real {
-        *state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (*state >> 11) as Real / (1u64 << 53) as Real
-    }
-
     #[test]
     fn the_reach_is_the_farthest_point_from_the_corners() {
         let p = |x: Real, y: Real| Point3::new(x, y, 0.0);
@@ -570,12 +563,12 @@ mod tests {
             // A sliver with its apex off the middle.
             ([p(0.0, 0.0), p(10.0, 0.0), p(3.0, 0.01)], None),
         ];
-        let mut state = 7;
+        let mut uniform = sequence(7);
         for _ in 0..200 {
             let mut q = || {
-                let x = uniform(&mut state);
-                let y = uniform(&mut state);
-                Point3::new(x, y, uniform(&mut state))
+                let x = uniform();
+                let y = uniform();
+                Point3::new(x, y, uniform())
             };
             triangles.push(([q(), q(), q()], None));
         }
@@ -610,7 +603,7 @@ mod tests {
     #[test]
     fn every_point_lies_within_the_resolution_over_root_two_of_a_sample() {
         // Random triangles over a bumpy square, sampled at a resolution about their size.
-        let mut state = 11;
+        let mut uniform = sequence(11);
         let n = 6;
         let mut positions = Vec::new();
         for j in 0..=n {
@@ -618,9 +611,9 @@ mod tests {
                 let (x, y) = (i as Real, j as Real);
                 let jitter = 0.35;
                 positions.push(Point3::new(
-                    x + jitter * (uniform(&mut state) - 0.5),
-                    y + jitter * (uniform(&mut state) - 0.5),
-                    0.3 * uniform(&mut state),
+                    x + jitter * (uniform() - 0.5),
+                    y + jitter * (uniform() - 0.5),
+                    0.3 * uniform(),
                 ));
             }
         }

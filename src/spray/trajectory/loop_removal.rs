@@ -370,6 +370,7 @@ pub(super) fn remove_loops(raw: &[Node], tol: Real, caps: &Caps) -> Kept {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spray::normal_equations::tests::sequence;
 
     /// The cells looked in are the union of the 3 × 3 neighbourhoods of the segment's
     /// sample cells, in increasing order, as sorting that union gives them: on segments of
@@ -377,14 +378,8 @@ mod tests {
     #[test]
     fn the_cells_near_a_segment_are_the_neighbourhoods_of_its_samples() {
         let mut grid = EdgeGrid::new(0.7);
-        // A fixed sequence of pseudo-random numbers in [0, 1) (64-bit LCG).
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as Real / (1u64 << 53) as Real
-        };
+        // A fixed sequence of pseudo-random numbers in [0, 1).
+        let mut next = sequence(0x2545_f491_4f6c_dd1d);
         let mut naive = Vec::new();
         for k in 0..20_000 {
             let a = [200.0 * next() - 100.0, 200.0 * next() - 100.0];
