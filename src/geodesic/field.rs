@@ -56,10 +56,13 @@ const CORNER_DEFECT: Real = 0.05;
 /// course to overrun it gives up early (see `exact::PROJECTED_OVERRUN`): from the nose of the
 /// wing-body (161 per face) at 26 per face.
 const EXACT_FIRST_WINDOWS_PER_FACE: u64 = 64;
-/// ...and at least this many on a small surface (about half a second natively), where a
-/// budget per face would give up on a few milliseconds of work: Orion's heat shield from its
-/// section by the plane x = 0 takes 71 windows per face (405k).
-const EXACT_FIRST_MIN_WINDOWS: u64 = 1 << 21;
+/// ...and at least this many on a surface of fewer than 65,536 faces (about a second
+/// natively), where a budget per face would give up on work nearly done: windows per face
+/// grow about as √n (see `exact`), so Orion's heat shield from its section by the plane
+/// x = 0 takes 71 per face (405k) and, each face split in four (22,776 faces), 102 per face
+/// (2.32M; a budget of 2²¹ stopped it at nine tenths of the way, 0.56 s natively, and the
+/// virtual sources answered 0.078 ft long and 0.032 short by a notch in a hole's rim).
+const EXACT_FIRST_MIN_WINDOWS: u64 = 1 << 22;
 
 /// Geodesic distance from a source, by the mesh or the voxel method.
 #[derive(Clone, Debug)]

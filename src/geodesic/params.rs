@@ -99,7 +99,7 @@ pub struct DistanceParams {
     pub max_windows: Option<u64>,
     /// Accurate method: windows the exact method may process before the virtual-source
     /// propagation runs instead (it gives up sooner when on course for 1.5 times as many).
-    /// `None`: automatic, `64` per face (at least 2²¹) on a surface of at most 100k faces
+    /// `None`: automatic, `64` per face (at least 2²²) on a surface of at most 100k faces
     /// with a corner (an interior vertex whose angle defect exceeds 0.05 rad) or a hole (a
     /// boundary loop turning as a hole's rim does), none elsewhere; `Some(0)`: never. See
     /// [`Method::Accurate`].
