@@ -523,8 +523,12 @@ impl<'a> Solver<'a> {
         // exact ones at 7 m, below the straight line). Checked for point sources: a
         // segment's foot at the other end would cost more (7 % on the bench's 500k cap in
         // WebAssembly), and the pieces of a source curve lie near the vertices they serve,
-        // with no cone vertex between.
-        if s.p == s.q && self.settled[other] {
+        // with no cone vertex between. Not where the other end lies on a hole's rim: the
+        // straight line to it may cross the hole while the ray to the vertex goes past it
+        // (Orion's heat shield split to 22,776 faces, from x = 0: a row of vertices between
+        // a hole and a notch in its rim, each refused the source on the rim below it, took
+        // the path bending at the last and ended 0.078 ft too long).
+        if s.p == s.q && self.settled[other] && self.hole_rim.get(other) != Some(&true) {
             let po = self.surface.mesh.positions()[other];
             let short = self.dist[other] - CONSISTENCY * self.surface.mean_edge;
             if s.sigma + (po - s.p).norm() < short {
