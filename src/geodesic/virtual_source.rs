@@ -65,9 +65,17 @@
 //!         heat shield subdivided to 364k faces from the plane x = 0, 0.09 ft. Beside a
 //!         narrow notch in a hole's rim (two boundary edges meeting at a sharp tip),
 //!         distances from a curve come out too long: the heat shield with each face split in
-//!         four (22,776 faces) from x = 0, up to 0.078 ft at the notch (cause not found). On
-//!         surfaces of up to 100k faces with a hole the exact method answers first, within
-//!         its budget (see `field.rs`; that heat shield: 2.3M windows, within it).
+//!         four (22,776 faces) from x = 0, up to 0.056 ft beside the notch (0.078 before the
+//!         check against unfoldings past a cone vertex left out the rims of holes, see
+//!         [`Solver::holds`]). Round a hole meshed as fans of long triangles, a vertex whose
+//!         path leaves the rim far from its own neighbours on the rim is offered only paths
+//!         bending at those: a flat annulus of 226 faces (a hole of 200 sides, an outer
+//!         polygon of 26) from an outer vertex, up to 4.0 too long at 82 (looking back along
+//!         the rim from there for where the path leaves it was tried: exact on such annuli,
+//!         but the source that wins at a vertex then is not always the one its neighbours
+//!         need, and elsewhere it made a few vertices worse). On surfaces of up to 100k faces
+//!         with a hole the exact method answers first, within its budget (see `field.rs`;
+//!         that heat shield: 2.3M windows, within it).
 //! Deviations (no paper):
 //!   - A virtual source is a *segment* `[p, q]` (distance `σ + dist(x, [p, q])`): a point
 //!     when `p = q`, otherwise the straight run of a source curve nearest to the vertex (the
