@@ -187,7 +187,10 @@ pub(super) fn sample_sets(
         None
     } else {
         let cell = COARSE_RESOLUTION_RATIO * resolved.resolution;
-        if !subdivides(mesh, &frame.faces, cell) {
+        // A face split at the cell is split at the finer resolution too: with one
+        // sub-triangle a face already (every face unsplit), no face is measured again.
+        let unsplit = full.samples.triangles.len() == frame.faces.len();
+        if unsplit || !subdivides(mesh, &frame.faces, cell) {
             // The coarse samples would be the mesh's vertices: thin the full ones instead.
             full.thinned(cell, radius)
         } else {
