@@ -65,17 +65,16 @@
 //!         heat shield subdivided to 364k faces from the plane x = 0, 0.09 ft. Beside a
 //!         narrow notch in a hole's rim (two boundary edges meeting at a sharp tip),
 //!         distances from a curve come out too long: the heat shield with each face split in
-//!         four (22,776 faces) from x = 0, up to 0.056 ft beside the notch (0.078 before the
-//!         check against unfoldings past a cone vertex left out the rims of holes, see
-//!         [`Solver::holds`]). Round a hole meshed as fans of long triangles, a vertex whose
-//!         path leaves the rim far from its own neighbours on the rim is offered only paths
-//!         bending at those: a flat annulus of 226 faces (a hole of 200 sides, an outer
-//!         polygon of 26) from an outer vertex, up to 4.0 too long at 82 (looking back along
-//!         the rim from there for where the path leaves it was tried: exact on such annuli,
-//!         but the source that wins at a vertex then is not always the one its neighbours
-//!         need, and elsewhere it made a few vertices worse). On surfaces of up to 100k faces
-//!         with a hole the exact method answers first, within its budget (see `field.rs`;
-//!         that heat shield: 2.3M windows, within it).
+//!         four (22,776 faces) from x = 0, up to 0.075 ft beyond a notch of another hole
+//!         (0.078 before the check against unfoldings past a cone vertex left out the rims
+//!         of holes, see [`Solver::holds`], and rim vertices offered the paths leaving the
+//!         rim further back, see [`Solver::up_the_rim`]; 0.056 with the first alone: a vertex
+//!         beside the notch now holds the path from further back, shorter, which the
+//!         vertices past the notch's tip cannot use). Where fronts meet on a very coarse
+//!         mesh their interpolation may fall short: the flat annulus of 226 faces (a hole of
+//!         200 sides, an outer polygon of 26) from an outer vertex, 0.16 at 82. On surfaces
+//!         of up to 100k faces with a hole the exact method answers first, within its budget
+//!         (see `field.rs`; that heat shield: 2.3M windows, within it).
 //! Deviations (no paper):
 //!   - A virtual source is a *segment* `[p, q]` (distance `σ + dist(x, [p, q])`): a point
 //!     when `p = q`, otherwise the straight run of a source curve nearest to the vertex (the
@@ -103,6 +102,15 @@
 //!     none does, `x` gets the path bending at the settled vertex, which then becomes a
 //!     point source with `σ = d(u)` (exact at saddle and boundary vertices, where shortest
 //!     paths bend; an upper bound elsewhere).
+//!   - A vertex on the rim of a hole whose path bent at the rim also offers its neighbours
+//!     the paths that leave the rim further back, at the rim vertices where the paths before
+//!     it bent ([`Solver::up_the_rim`]): round a hole meshed as fans of long triangles (as
+//!     CAD exports them) a vertex's path leaves the rim far from its neighbours there, and
+//!     no vertex in between holds it. A flat annulus of 226 faces (a hole of 200 sides, an
+//!     outer polygon of 26) from an outer vertex: 4.0 too long at 82 before, 0.000 after;
+//!     Orion's heat shield split to 91k and 364k faces from x = 0, vertices more than
+//!     0.01 ft beyond exact 440 → 38 and 428 → 20, the most 0.050 → 0.021 and 0.021 →
+//!     0.017 ft, 5–8 % more time at 364k (the walks are bounded as those of `shadow.rs`).
 
 mod fan_walk;
 mod follow;
@@ -168,6 +176,13 @@ impl Offered {
     }
 }
 
+/// Rim vertices [`Solver::up_the_rim`] looks back along at most (no paper: a path round a
+/// hole of 200 sides leaves it up to a quarter of the way round from a vertex beside it).
+const RIM_STEPS: usize = 64;
+/// A rim vertex's path is taken to come straight from the rim vertex it bent at when it is
+/// longer by at most this fraction more than their chord (far above the chord's shortfall
+/// from the arc between close vertices of a curved rim; the path round a notch is longer).
+const STRAIGHT_CHORD: Real = 1e-3;
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
 /// Relative slack of the lower bound on an offer (far above the rounding of the offer).
@@ -246,7 +261,7 @@ impl Rotation {
 
 /// The corners of triangle `tri` after its corner `u`, in order.
 #[inline(always)]
-fn corners_after(tri: [u32; 3], u: usize) -> (usize, usize) {
+pub(super) fn corners_after(tri: [u32; 3], u: usize) -> (usize, usize) {
     let (p, q) = if tri[0] as usize == u {
         (tri[1], tri[2])
     } else if tri[1] as usize == u {
@@ -309,6 +324,11 @@ pub(super) struct Solver<'a> {
     /// Per vertex, whether it lies on the rim of a hole; empty where [`Self::gap_rings`] is
     /// or no boundary loop turns as a hole's rim does.
     hole_rim: Vec<bool>,
+    /// Scratch of [`Self::up_the_rim`]: the paths leaving the rim further back, their
+    /// distance and the rim vertex each bends at.
+    rim_chain: Vec<(Real, Virtual, u32)>,
+    /// Faces the walks of [`Self::up_the_rim`] may still cross.
+    pub(super) rim_walks: std::cell::Cell<usize>,
 }
 
 impl<'a> Solver<'a> {
@@ -338,6 +358,10 @@ impl<'a> Solver<'a> {
             rim: Vec::new(),
             long_walks: std::cell::Cell::new(shadow::LONG_WALK_FACES * surface.faces.len()),
             hole_rim: Vec::new(),
+            rim_chain: Vec::new(),
+            rim_walks: std::cell::Cell::new(
+                (shadow::LONG_WALK_FACES * surface.faces.len()).max(shadow::LONG_WALK),
+            ),
         }
     }
 
@@ -590,7 +614,14 @@ impl<'a> Solver<'a> {
     /// [`Self::improve_from`] with the source unfolded round `giver` by a walk, which holds
     /// only within `walked` (see `wedge.rs`; open for any other source).
     #[inline(always)]
-    fn improve_walked(&mut self, x: usize, d: Real, s: Virtual, giver: usize, walked: &Wedge) {
+    fn improve_walked(
+        &mut self,
+        x: usize,
+        d: Real,
+        s: Virtual,
+        giver: usize,
+        walked: &Wedge,
+    ) -> bool {
         if self.improve(x, d, s) {
             if !self.origin.is_empty() {
                 self.origin[x] = self.origin[giver];
@@ -621,7 +652,95 @@ impl<'a> Solver<'a> {
             if !self.wedge.is_empty() {
                 self.pass_wedge(x, &s, giver, walked);
             }
+            return true;
         }
+        false
+    }
+
+    /// Offers `x` the path that leaves the rim of a hole furthest back from `u`, a vertex of
+    /// that rim whose path bent at the rim: the vertices of the rim where the paths before
+    /// it bent (`rim[u]`, the one its path bent at, and so on, while each path came straight
+    /// from the one before), each laid out in the plane of face `t` from the one after it
+    /// (by its own source where that is the point at the next, else by their chord, turned
+    /// from the plane of the face its source lies in), as long as they come nearer to `x`
+    /// (at most [`RIM_STEPS`]). On a convex rim the ray from them reaches `x` up to where
+    /// the path leaves the rim and crosses the hole beyond, so the last that holds is found
+    /// by bisection, each ray walked all the way back (see `shadow.rs`, `rim_ray_holds`). It
+    /// replaces the source of `x` only when shorter by more than [`CONSISTENCY`] mean edges:
+    /// beside a notch two paths of about the same length reach a vertex, and the one it
+    /// holds may be the one the vertices beyond need.
+    fn up_the_rim(&mut self, u: usize, t: usize, x: usize, y: usize) {
+        let pos = self.surface.mesh.positions();
+        let normals = &self.surface.face_normals;
+        let px = pos[x];
+        let (mut at, mut from) = (pos[u], u);
+        let mut last = self.dist[u] + (px - pos[u]).norm();
+        let mut chain = std::mem::take(&mut self.rim_chain);
+        chain.clear();
+        for _ in 0..RIM_STEPS {
+            let next = self.rim[from];
+            if next == shadow::NO_RIM {
+                break;
+            }
+            let next = next as usize;
+            // The path from `next` to `from` must be the straight chord (not round a notch).
+            let chord = (pos[from] - pos[next]).norm();
+            if self.dist[from] - self.dist[next] > chord * (1.0 + STRAIGHT_CHORD) {
+                break;
+            }
+            let n = &normals[self.src[from].face as usize];
+            let rot = Rotation::new(n, &normals[t]);
+            if rot.c <= FOLD_COSINE {
+                break;
+            }
+            // Where `from`'s source is the point at `next` itself, as it lies in that face's
+            // plane; else the chord in that plane, at its length.
+            let sf = self.src[from];
+            let step = if sf.p == sf.q && sf.sigma == self.dist[next] {
+                sf.p - pos[from]
+            } else {
+                let chord3 = pos[next] - pos[from];
+                let flat = chord3 - n * n.dot(&chord3);
+                let flat_len = flat.norm();
+                if flat_len <= 0.0 {
+                    break;
+                }
+                flat * (chord / flat_len)
+            };
+            let p = at + rot.apply(step);
+            let d = self.dist[next] + (px - p).norm();
+            // Nearer, or the chain ends (a NaN too).
+            if d.partial_cmp(&last) != Some(std::cmp::Ordering::Less) {
+                break;
+            }
+            chain.push((d, Virtual::point(p, self.dist[next], t as u32), next as u32));
+            (at, from, last) = (p, next, d);
+        }
+        if chain.is_empty() {
+            self.rim_chain = chain;
+            return;
+        }
+        // The last candidate whose ray holds: `lo` holds (or is none), `hi` does not (or is
+        // past the end); each round halves the gap, so the loop ends.
+        let (mut lo, mut hi) = (0, chain.len() + 1);
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            let (d, candidate, _) = chain[mid - 1];
+            if self.rim_ray_holds(&candidate, t, x) && self.holds(d, &candidate, &px, u, y) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        if lo > 0 {
+            let (d, candidate, bent_at) = chain[lo - 1];
+            if d < self.dist[x] - CONSISTENCY * self.surface.mean_edge
+                && self.improve_walked(x, d, candidate, u, &Wedge::OPEN)
+            {
+                self.rim[x] = bent_at;
+            }
+        }
+        self.rim_chain = chain;
     }
 
     /// Settled `u` offers its neighbours in every face around it.
@@ -632,6 +751,10 @@ impl<'a> Solver<'a> {
         let mut open = false;
         let su = self.src[u];
         let (pu, du) = (pos[u], self.dist[u]);
+        // A vertex of a hole's rim whose path bent at the rim offers paths that leave it
+        // further back too (see `up_the_rim`).
+        let round_a_hole = self.hole_rim.get(u) == Some(&true)
+            && self.rim.get(u).is_some_and(|&r| r != shadow::NO_RIM);
         // Where the faces around u bend sharply, a point source is unfolded around u instead
         // of turned about it (see `fan_walk.rs`).
         if su.p == su.q && self.settled_walking(u) {
@@ -680,6 +803,9 @@ impl<'a> Solver<'a> {
                         if direct < self.dist[x] && self.bends_at(u) {
                             self.improve_from(x, direct, Virtual::point(pu, du, t as u32), u);
                         }
+                        if round_a_hole && x == p {
+                            self.up_the_rim(u, t, x, y);
+                        }
                         continue;
                     }
                 }
@@ -707,6 +833,9 @@ impl<'a> Solver<'a> {
                         self.improve_from(x, d, s, giver)
                     }
                     _ => self.improve_from(x, direct, at_u, u),
+                }
+                if round_a_hole && x == p {
+                    self.up_the_rim(u, t, x, y);
                 }
             }
         }

@@ -114,7 +114,9 @@ impl Solver<'_> {
                 // be the other corner's, not bounded by it).
                 let direct = du + (pos[x] - pu).norm();
                 match best {
-                    Some((d, s, w)) if d <= direct => self.improve_walked(x, d, s, giver, &w),
+                    Some((d, s, w)) if d <= direct => {
+                        self.improve_walked(x, d, s, giver, &w);
+                    }
                     _ => self.improve_from(x, direct, Virtual::point(pu, du, t as u32), u),
                 }
             }

@@ -61,9 +61,12 @@
 //!         102 s). The walks all the way back cross at most [`LONG_WALK`] faces each and
 //!         [`LONG_WALK_FACES`] per face of the surface in all (then the walk near a boundary
 //!         only): from a vertex, 0.7–0.9 faces per face on that heat shield and 1.8 on the
-//!         holed caps; 3–6 % more time at 364k faces.
+//!         holed caps; 3–6 % more time at 364k faces. The rays of the paths a rim vertex
+//!         offers from further back along the rim (`Solver::up_the_rim`) are walked all the
+//!         way back from the vertex offered ([`Solver::rim_ray_holds`]), within a budget of
+//!         their own of as many faces ([`LONG_WALK`] at least).
 
-use super::{Rotation, Solver, CROSSING_TOLERANCE, FOLD_COSINE};
+use super::{Rotation, Solver, Virtual, CROSSING_TOLERANCE, FOLD_COSINE};
 use crate::geodesic::source::boundary_loops;
 use crate::geodesic::surface::Surface;
 use crate::geodesic::unfolding::{boundary_turn, is_hole_rim};
@@ -212,7 +215,8 @@ impl Solver<'_> {
             let steps = steps.min(left);
             if steps > SHADOW_STEPS {
                 let mut walked = 0;
-                let through = self.walk_back(foot, crossing, (t, a, b), steps, &mut walked, true);
+                let through =
+                    self.walk_back(foot, crossing, (t, a, b), steps, &mut walked, true, true);
                 self.long_walks.set(left - walked);
                 return through;
             }
@@ -220,14 +224,76 @@ impl Solver<'_> {
                 return false;
             }
         }
-        self.walk_back(foot, crossing, (t, a, b), SHADOW_STEPS, &mut 0, false)
+        self.walk_back(foot, crossing, (t, a, b), SHADOW_STEPS, &mut 0, false, true)
+    }
+
+    /// Whether the ray from point source `s` (in the plane of face `t`, a face of vertex `x`)
+    /// reaches `x` over the surface: it enters one of the faces round `x` across the edge
+    /// opposite `x` (the source moved into that face's plane about `x`) and, walked back all
+    /// the way to the source from there, never leaves the surface (within the budget of such
+    /// walks: with too little left, or cut short by it, no).
+    pub(super) fn rim_ray_holds(&self, s: &Virtual, t: usize, x: usize) -> bool {
+        let surface = self.surface;
+        let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
+        let px = pos[x];
+        for &g in surface.faces_of(x) {
+            let g = g as usize;
+            let n = &surface.face_normals[g];
+            let foot = if g == t {
+                s.p
+            } else {
+                let r = Rotation::new(&surface.face_normals[t], n);
+                if r.c <= FOLD_COSINE {
+                    continue;
+                }
+                px + r.apply(s.p - px)
+            };
+            let (a, b) = super::corners_after(tris[g], x);
+            let (pa, pb) = (pos[a], pos[b]);
+            let w = px - foot;
+            let e = pb - pa;
+            let den = e.cross(&w).dot(n);
+            let tol2 = CROSSING_TOLERANCE * CROSSING_TOLERANCE * e.norm_squared();
+            if den * den <= tol2 * w.norm_squared() {
+                continue;
+            }
+            let fa = foot - pa;
+            let lambda = fa.cross(&w).dot(n) / den;
+            let tau = fa.cross(&e).dot(n) / den;
+            let within = -CROSSING_TOLERANCE..=1.0 + CROSSING_TOLERANCE;
+            if !(within.contains(&lambda) && within.contains(&tau)) {
+                continue;
+            }
+            if tau <= CROSSING_TOLERANCE {
+                return true;
+            }
+            let left = self.rim_walks.get();
+            if left <= SHADOW_STEPS {
+                return false;
+            }
+            let (mut walked, steps) = (0, LONG_WALK.min(left));
+            let through = self.walk_back(
+                &foot,
+                &(foot + w * tau),
+                (g, a, b),
+                steps,
+                &mut walked,
+                false,
+                false,
+            );
+            self.rim_walks.set(left - walked);
+            return !through && walked < steps;
+        }
+        false
     }
 
     /// [`Self::through_a_gap`] within `steps` faces, counting the faces crossed in `walked`;
     /// with `holes_only`, a ray that leaves farther back than [`SHADOW_STEPS`] faces through
     /// an edge not on the rim of a hole (past a notch of an outer border it runs beside) is
-    /// let through.
+    /// let through; with `run_on`, so is one that leaves no farther from its foot than a
+    /// source curve runs on (a point source on a rim has none).
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn walk_back(
         &self,
         foot: &Point3,
@@ -236,6 +302,7 @@ impl Solver<'_> {
         steps: usize,
         walked: &mut usize,
         holes_only: bool,
+        run_on: bool,
     ) -> bool {
         let surface = self.surface;
         let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
@@ -258,7 +325,7 @@ impl Solver<'_> {
                 // unless from no farther than a source curve runs on beyond its ends (a
                 // piece of a border, run on along its line, lies off the surface where the
                 // border turns away).
-                return (f - c).norm() > self.reach;
+                return !run_on || (f - c).norm() > self.reach;
             };
             let r = Rotation::new(&normals[g], &normals[h]);
             if r.c <= FOLD_COSINE {
