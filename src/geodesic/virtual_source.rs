@@ -115,6 +115,7 @@
 mod fan_walk;
 mod follow;
 mod queue;
+mod round_a_hole;
 mod run_on;
 mod seeding;
 mod shadow;
@@ -176,13 +177,6 @@ impl Offered {
     }
 }
 
-/// Rim vertices [`Solver::up_the_rim`] looks back along at most (no paper: a path round a
-/// hole of 200 sides leaves it up to a quarter of the way round from a vertex beside it).
-const RIM_STEPS: usize = 64;
-/// A rim vertex's path is taken to come straight from the rim vertex it bent at when it is
-/// longer by at most this fraction more than their chord (far above the chord's shortfall
-/// from the arc between close vertices of a curved rim; the path round a notch is longer).
-const STRAIGHT_CHORD: Real = 1e-3;
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
 /// Relative slack of the lower bound on an offer (far above the rounding of the offer).
@@ -257,6 +251,31 @@ impl Rotation {
         let k = &self.k;
         w * self.c - k.cross(&w) + k * (k.dot(&w) / (1.0 + self.c))
     }
+}
+
+/// Where the ray `f + τ·w` (τ in `[0, 1]`, in the plane of normal `n`) crosses the edge
+/// `pa – pb`: `τ`, or `None` when it misses the edge or runs along its line (then it reaches
+/// the ray's end through `pa` or `pb` only), within [`CROSSING_TOLERANCE`].
+#[inline(always)]
+pub(super) fn crossing(
+    f: &Point3,
+    w: &Vector3,
+    pa: &Point3,
+    pb: &Point3,
+    n: &Vector3,
+) -> Option<Real> {
+    let e = pb - pa;
+    let den = e.cross(w).dot(n);
+    let tol2 = CROSSING_TOLERANCE * CROSSING_TOLERANCE * e.norm_squared();
+    if den * den <= tol2 * w.norm_squared() {
+        return None;
+    }
+    // f + τ w = a + λ e.
+    let fa = f - pa;
+    let lambda = fa.cross(w).dot(n) / den;
+    let tau = fa.cross(&e).dot(n) / den;
+    let within = -CROSSING_TOLERANCE..=1.0 + CROSSING_TOLERANCE;
+    (within.contains(&lambda) && within.contains(&tau)).then_some(tau)
 }
 
 /// The corners of triangle `tri` after its corner `u`, in order.
@@ -481,21 +500,7 @@ impl<'a> Solver<'a> {
         if d >= self.dist[x] {
             return Some(Offered::Ray(d));
         }
-        let e = pb - pa;
-        let den = e.cross(&w).dot(n);
-        let tol2 = CROSSING_TOLERANCE * CROSSING_TOLERANCE * e.norm_squared();
-        if den * den <= tol2 * w.norm_squared() {
-            // The ray runs along the edge's line: it reaches x through a or b only.
-            return None;
-        }
-        // f + τ w = a + λ e.
-        let fa = f - pa;
-        let lambda = fa.cross(&w).dot(n) / den;
-        let tau = fa.cross(&e).dot(n) / den;
-        let within = -CROSSING_TOLERANCE..=1.0 + CROSSING_TOLERANCE;
-        if !(within.contains(&lambda) && within.contains(&tau)) {
-            return None;
-        }
+        let tau = crossing(&f, &w, &pa, &pb, n)?;
         // Near a boundary, a ray that left the surface on its way is refused (see
         // `shadow.rs`); one that starts on the edge it crosses (a source on a border) is not.
         // From a point source, where the crossed edge's other end holds a path that bent at
@@ -655,92 +660,6 @@ impl<'a> Solver<'a> {
             return true;
         }
         false
-    }
-
-    /// Offers `x` the path that leaves the rim of a hole furthest back from `u`, a vertex of
-    /// that rim whose path bent at the rim: the vertices of the rim where the paths before
-    /// it bent (`rim[u]`, the one its path bent at, and so on, while each path came straight
-    /// from the one before), each laid out in the plane of face `t` from the one after it
-    /// (by its own source where that is the point at the next, else by their chord, turned
-    /// from the plane of the face its source lies in), as long as they come nearer to `x`
-    /// (at most [`RIM_STEPS`]). On a convex rim the ray from them reaches `x` up to where
-    /// the path leaves the rim and crosses the hole beyond, so the last that holds is found
-    /// by bisection, each ray walked all the way back (see `shadow.rs`, `rim_ray_holds`). It
-    /// replaces the source of `x` only when shorter by more than [`CONSISTENCY`] mean edges:
-    /// beside a notch two paths of about the same length reach a vertex, and the one it
-    /// holds may be the one the vertices beyond need.
-    fn up_the_rim(&mut self, u: usize, t: usize, x: usize, y: usize) {
-        let pos = self.surface.mesh.positions();
-        let normals = &self.surface.face_normals;
-        let px = pos[x];
-        let (mut at, mut from) = (pos[u], u);
-        let mut last = self.dist[u] + (px - pos[u]).norm();
-        let mut chain = std::mem::take(&mut self.rim_chain);
-        chain.clear();
-        for _ in 0..RIM_STEPS {
-            let next = self.rim[from];
-            if next == shadow::NO_RIM {
-                break;
-            }
-            let next = next as usize;
-            // The path from `next` to `from` must be the straight chord (not round a notch).
-            let chord = (pos[from] - pos[next]).norm();
-            if self.dist[from] - self.dist[next] > chord * (1.0 + STRAIGHT_CHORD) {
-                break;
-            }
-            let n = &normals[self.src[from].face as usize];
-            let rot = Rotation::new(n, &normals[t]);
-            if rot.c <= FOLD_COSINE {
-                break;
-            }
-            // Where `from`'s source is the point at `next` itself, as it lies in that face's
-            // plane; else the chord in that plane, at its length.
-            let sf = self.src[from];
-            let step = if sf.p == sf.q && sf.sigma == self.dist[next] {
-                sf.p - pos[from]
-            } else {
-                let chord3 = pos[next] - pos[from];
-                let flat = chord3 - n * n.dot(&chord3);
-                let flat_len = flat.norm();
-                if flat_len <= 0.0 {
-                    break;
-                }
-                flat * (chord / flat_len)
-            };
-            let p = at + rot.apply(step);
-            let d = self.dist[next] + (px - p).norm();
-            // Nearer, or the chain ends (a NaN too).
-            if d.partial_cmp(&last) != Some(std::cmp::Ordering::Less) {
-                break;
-            }
-            chain.push((d, Virtual::point(p, self.dist[next], t as u32), next as u32));
-            (at, from, last) = (p, next, d);
-        }
-        if chain.is_empty() {
-            self.rim_chain = chain;
-            return;
-        }
-        // The last candidate whose ray holds: `lo` holds (or is none), `hi` does not (or is
-        // past the end); each round halves the gap, so the loop ends.
-        let (mut lo, mut hi) = (0, chain.len() + 1);
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            let (d, candidate, _) = chain[mid - 1];
-            if self.rim_ray_holds(&candidate, t, x) && self.holds(d, &candidate, &px, u, y) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        if lo > 0 {
-            let (d, candidate, bent_at) = chain[lo - 1];
-            if d < self.dist[x] - CONSISTENCY * self.surface.mean_edge
-                && self.improve_walked(x, d, candidate, u, &Wedge::OPEN)
-            {
-                self.rim[x] = bent_at;
-            }
-        }
-        self.rim_chain = chain;
     }
 
     /// Settled `u` offers its neighbours in every face around it.

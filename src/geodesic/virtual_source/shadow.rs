@@ -63,10 +63,10 @@
 //!         only): from a vertex, 0.7–0.9 faces per face on that heat shield and 1.8 on the
 //!         holed caps; 3–6 % more time at 364k faces. The rays of the paths a rim vertex
 //!         offers from further back along the rim (`Solver::up_the_rim`) are walked all the
-//!         way back from the vertex offered ([`Solver::rim_ray_holds`]), within a budget of
-//!         their own of as many faces ([`LONG_WALK`] at least).
+//!         way back from the vertex offered (see `round_a_hole.rs`), within a budget of their
+//!         own of as many faces ([`LONG_WALK`] at least).
 
-use super::{Rotation, Solver, Virtual, CROSSING_TOLERANCE, FOLD_COSINE};
+use super::{Rotation, Solver, CROSSING_TOLERANCE, FOLD_COSINE};
 use crate::geodesic::source::boundary_loops;
 use crate::geodesic::surface::Surface;
 use crate::geodesic::unfolding::{boundary_turn, is_hole_rim};
@@ -227,66 +227,6 @@ impl Solver<'_> {
         self.walk_back(foot, crossing, (t, a, b), SHADOW_STEPS, &mut 0, false, true)
     }
 
-    /// Whether the ray from point source `s` (in the plane of face `t`, a face of vertex `x`)
-    /// reaches `x` over the surface: it enters one of the faces round `x` across the edge
-    /// opposite `x` (the source moved into that face's plane about `x`) and, walked back all
-    /// the way to the source from there, never leaves the surface (within the budget of such
-    /// walks: with too little left, or cut short by it, no).
-    pub(super) fn rim_ray_holds(&self, s: &Virtual, t: usize, x: usize) -> bool {
-        let surface = self.surface;
-        let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
-        let px = pos[x];
-        for &g in surface.faces_of(x) {
-            let g = g as usize;
-            let n = &surface.face_normals[g];
-            let foot = if g == t {
-                s.p
-            } else {
-                let r = Rotation::new(&surface.face_normals[t], n);
-                if r.c <= FOLD_COSINE {
-                    continue;
-                }
-                px + r.apply(s.p - px)
-            };
-            let (a, b) = super::corners_after(tris[g], x);
-            let (pa, pb) = (pos[a], pos[b]);
-            let w = px - foot;
-            let e = pb - pa;
-            let den = e.cross(&w).dot(n);
-            let tol2 = CROSSING_TOLERANCE * CROSSING_TOLERANCE * e.norm_squared();
-            if den * den <= tol2 * w.norm_squared() {
-                continue;
-            }
-            let fa = foot - pa;
-            let lambda = fa.cross(&w).dot(n) / den;
-            let tau = fa.cross(&e).dot(n) / den;
-            let within = -CROSSING_TOLERANCE..=1.0 + CROSSING_TOLERANCE;
-            if !(within.contains(&lambda) && within.contains(&tau)) {
-                continue;
-            }
-            if tau <= CROSSING_TOLERANCE {
-                return true;
-            }
-            let left = self.rim_walks.get();
-            if left <= SHADOW_STEPS {
-                return false;
-            }
-            let (mut walked, steps) = (0, LONG_WALK.min(left));
-            let through = self.walk_back(
-                &foot,
-                &(foot + w * tau),
-                (g, a, b),
-                steps,
-                &mut walked,
-                false,
-                false,
-            );
-            self.rim_walks.set(left - walked);
-            return !through && walked < steps;
-        }
-        false
-    }
-
     /// [`Self::through_a_gap`] within `steps` faces, counting the faces crossed in `walked`;
     /// with `holes_only`, a ray that leaves farther back than [`SHADOW_STEPS`] faces through
     /// an edge not on the rim of a hole (past a notch of an outer border it runs beside) is
@@ -294,7 +234,7 @@ impl Solver<'_> {
     /// source curve runs on (a point source on a rim has none).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn walk_back(
+    pub(super) fn walk_back(
         &self,
         foot: &Point3,
         crossing: &Point3,
