@@ -4,7 +4,8 @@
 //! cell (counting sort) with one offset per cell. Cells are enlarged when the box would need
 //! more than [`MAX_CELLS`].
 //! Input:  points, wanted cell size. Output: per-box iteration over candidate point ids.
-//! Cost:   O(P + cells) to build; a query visits the cells its box overlaps.
+//! Cost:   O(P + cells) to build; a query visits the cells its box overlaps (a trimmed query
+//!         tests only those holding points).
 
 use crate::math::{Point3, Real, Vector3};
 
@@ -120,7 +121,8 @@ impl PointGrid {
     /// [`PointGrid::for_each_in_box`], skipping at both ends of each row of cells the cells
     /// for which `near(centre, half_diagonal)` is false: `near` must be true for every cell
     /// holding a point the caller wants (a conservative test of the cell's bounding sphere).
-    /// The cells between the first and the last near one of a row are all visited.
+    /// Empty cells are skipped untested. The cells between the first and the last near cell
+    /// holding points of a row are all visited.
     pub fn for_each_in_box_near(
         &self,
         lo: &Vector3,
@@ -157,16 +159,19 @@ impl PointGrid {
                 let row = (k * self.dims[1] + j) * self.dims[0];
                 let (y, z) = (centre(1, j), centre(2, k));
                 let at = |i: usize| Point3::new(centre(0, i), y, z);
+                // An empty cell is skipped before it is tested: a surface's samples fill few
+                // of the cells of a box in space.
+                let empty = |i: usize| self.start[row + i] == self.start[row + i + 1];
                 // Each step moves one cell in, so both loops end.
                 let mut first = l[0];
-                while first <= h[0] && !near(&at(first), radius) {
+                while first <= h[0] && (empty(first) || !near(&at(first), radius)) {
                     first += 1;
                 }
                 if first > h[0] {
                     continue;
                 }
                 let mut last = h[0];
-                while last > first && !near(&at(last), radius) {
+                while last > first && (empty(last) || !near(&at(last), radius)) {
                     last -= 1;
                 }
                 let (s, e) = (
@@ -248,6 +253,39 @@ mod tests {
             near.len(),
             all.len()
         );
+    }
+
+    /// A query over a box in space around a sheet of points tests only the cells holding
+    /// points (a surface fills few cells of a box), and still finds every point in the box.
+    #[test]
+    fn a_query_tests_only_cells_that_hold_points() {
+        let flat: Vec<Point3> = cloud(3000, [10.0, 10.0, 0.0])
+            .into_iter()
+            .chain([Point3::new(0.0, 0.0, -4.0), Point3::new(10.0, 10.0, 4.0)])
+            .collect();
+        let grid = PointGrid::new(&flat, 0.5);
+        let (lo, hi) = (Vector3::new(2.0, 2.0, -3.0), Vector3::new(6.0, 7.0, 3.0));
+        let mut tested = Vec::new();
+        let mut found = Vec::new();
+        grid.for_each_in_box_near(
+            &lo,
+            &hi,
+            |c, _| {
+                tested.push(*c);
+                true
+            },
+            |i| found.push(i),
+        );
+        assert!(!tested.is_empty());
+        for c in &tested {
+            assert!(c.z.abs() < 0.5, "an empty cell at z = {} was tested", c.z);
+        }
+        found.sort_unstable();
+        assert_eq!(found, query(&grid, lo.into(), hi.into()));
+        let inside = (0..flat.len())
+            .filter(|&i| (0..3).all(|a| flat[i][a] >= lo[a] && flat[i][a] <= hi[a]))
+            .count();
+        assert!(inside > 300 && found.len() >= inside);
     }
 
     #[test]
