@@ -62,7 +62,8 @@
 //!         of a hole: the cap R 1000 with a hole 120 mm across, from a plane section on the
 //!         far side, 0.22 mm short at 60k faces and 0.11 mm at 239k (before the walk 15.4
 //!         and 14.6 mm; from a vertex there 0.000 at both, 7.8 and 7.1 mm before); Orion's
-//!         heat shield subdivided to 364k faces from the plane x = 0, 0.09 ft. Beside a
+//!         heat shield subdivided to 364k faces from the plane x = 0, 0.072 ft (0.091 before
+//!         the walk all the way back at a shadow's edge held source curves too). Beside a
 //!         narrow notch in a hole's rim (two boundary edges meeting at a sharp tip),
 //!         distances from a curve come out too long: the heat shield with each face split in
 //!         four (22,776 faces) from x = 0, up to 0.075 ft beyond a notch of another hole
@@ -503,16 +504,15 @@ impl<'a> Solver<'a> {
         let tau = crossing(&f, &w, &pa, &pb, n)?;
         // Near a boundary, a ray that left the surface on its way is refused (see
         // `shadow.rs`); one that starts on the edge it crosses (a source on a border) is not.
-        // From a point source, where the crossed edge's other end holds a path that bent at
-        // another hole's rim, the ray is walked all the way back: it may run along the edge
-        // of a hole's shadow, however far from the hole.
+        // Where the crossed edge's other end holds a path that bent at another hole's rim,
+        // the ray is walked all the way back: it may run along the edge of a hole's shadow,
+        // however far from the hole.
         let giver = if other == b { a } else { b };
         if !self.gap_rings.is_empty() && tau > CROSSING_TOLERANCE {
-            let steps = if s.p == s.q
-                && self
-                    .rim
-                    .get(other)
-                    .is_some_and(|&r| r != shadow::NO_RIM && r != self.rim[giver])
+            let steps = if self
+                .rim
+                .get(other)
+                .is_some_and(|&r| r != shadow::NO_RIM && r != self.rim[giver])
             {
                 shadow::LONG_WALK
             } else if usize::from(self.face_gap_rings(t)) < shadow::SHADOW_STEPS {
