@@ -763,17 +763,16 @@ fn virtual_sources_go_round_a_hole_not_across_it() {
     }
 }
 
-#[test]
-fn a_point_source_keeps_to_a_holes_shadow_far_beyond_its_rim() {
-    // A plate of 40 × 80 unit squares (diagonals alternating) without the squares whose
-    // centres lie within 3 of (20, 20); the source is the vertex (20, 12), so the hole's
-    // shadow runs on for some 57 rings, beyond the rings near the rim where every offer is
-    // walked back. At its edges a vertex was offered the source straight through the hole
-    // by a lit neighbour and handed it on inwards (0.0098 short of the exact distance at
-    // (2, 53)); now an offer whose crossed edge ends at a vertex whose path bent at a rim
-    // the offer's did not is walked back all the way (see `virtual_source/shadow.rs`).
-    let (w, l) = (40u32, 80u32);
-    let at = |i: u32, j: u32| j * (w + 1) + i;
+/// A plate of `w` × `l` unit squares (diagonals alternating) without the squares whose
+/// centres lie within `radius` of `centre` (a hole with a jagged rim), and the id of the
+/// vertex at `(i, j)`.
+fn holed_plate(
+    w: u32,
+    l: u32,
+    centre: (Real, Real),
+    radius: Real,
+) -> (Shape, impl Fn(u32, u32) -> u32) {
+    let at = move |i: u32, j: u32| j * (w + 1) + i;
     let positions = (0..=l)
         .flat_map(|j| (0..=w).map(move |i| Point3::new(i as Real, j as Real, 0.0)))
         .collect();
@@ -781,7 +780,7 @@ fn a_point_source_keeps_to_a_holes_shadow_far_beyond_its_rim() {
     for j in 0..l {
         for i in 0..w {
             let c = Point3::new(i as Real + 0.5, j as Real + 0.5, 0.0);
-            if (c - Point3::new(20.0, 20.0, 0.0)).norm() < 3.0 {
+            if (c - Point3::new(centre.0, centre.1, 0.0)).norm() < radius {
                 continue;
             }
             let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
@@ -792,10 +791,19 @@ fn a_point_source_keeps_to_a_holes_shadow_far_beyond_its_rim() {
             }
         }
     }
-    let s = shape(positions, triangles);
-    let source = GeodesicSource::Vertices(vec![at(20, 12)]);
-    let exact = distance(&s, &source, Method::Exact).vertex_distance;
-    let field = distance(&s, &source, Method::Accurate);
+    (shape(positions, triangles), at)
+}
+
+/// The accurate method's distances on `s` from `source` (virtual sources: no exact first
+/// try) against the exact method's: most short, most beyond, and how many vertices the
+/// exact path reaches longer than `straight` (the shadow of a hole).
+fn against_exact_in_the_shadow(
+    s: &Shape,
+    source: &GeodesicSource,
+    straight: impl Fn(&Point3) -> Real,
+) -> (Real, Real, usize) {
+    let exact = distance(s, source, Method::Exact).vertex_distance;
+    let field = distance(s, source, Method::Accurate);
     assert_eq!(field.method, Method::Accurate);
     let (mut short, mut long, mut shadowed) = (0.0 as Real, 0.0 as Real, 0);
     let p = s.mesh.positions();
@@ -803,10 +811,26 @@ fn a_point_source_keeps_to_a_holes_shadow_far_beyond_its_rim() {
         if e.is_finite() {
             short = short.max(e - a);
             long = long.max(a - e);
-            // Behind the hole the exact path goes round it: longer than the straight line.
-            shadowed += usize::from(*e > (p[v] - Point3::new(20.0, 12.0, 0.0)).norm() + 1e-6);
+            shadowed += usize::from(*e > straight(&p[v]) + 1e-6);
         }
     }
+    (short, long, shadowed)
+}
+
+#[test]
+fn a_point_source_keeps_to_a_holes_shadow_far_beyond_its_rim() {
+    // A plate of 40 × 80 unit squares without the squares whose centres lie within 3 of
+    // (20, 20); the source is the vertex (20, 12), so the hole's shadow runs on for some 57
+    // rings, beyond the rings near the rim where every offer is walked back. At its edges a
+    // vertex was offered the source straight through the hole by a lit neighbour and handed
+    // it on inwards (0.0098 short of the exact distance at (2, 53)); now an offer whose
+    // crossed edge ends at a vertex whose path bent at a rim the offer's did not is walked
+    // back all the way (see `virtual_source/shadow.rs`).
+    let (s, at) = holed_plate(40, 80, (20.0, 20.0), 3.0);
+    let source = GeodesicSource::Vertices(vec![at(20, 12)]);
+    // Behind the hole the exact path goes round it: longer than the straight line.
+    let (short, long, shadowed) =
+        against_exact_in_the_shadow(&s, &source, |p| (p - Point3::new(20.0, 12.0, 0.0)).norm());
     assert!(shadowed > 1000, "{shadowed} vertices in the shadow");
     assert!(short < 1e-3, "{short} short of exact");
     assert!(long < 1e-3, "{long} beyond exact");
@@ -814,56 +838,47 @@ fn a_point_source_keeps_to_a_holes_shadow_far_beyond_its_rim() {
 
 #[test]
 fn a_source_curve_keeps_to_a_holes_shadow_far_beyond_its_rim() {
-    // The plate of the test above with a wider hole (radius 6, its centre off the grid's
-    // lines), and a source curve: its section by a plane at a slant to the grid. The shadow
-    // runs on for some 55 rings beyond the rim, beyond the rings near it where every offer is
-    // walked back. Lit vertices at the shadow's edges handed the curve's rays straight
-    // through the hole inwards (0.70 short of the exact distance at (21, 46)); the walk all
-    // the way back at a shadow's edge now holds source curves as it holds point sources
-    // (0.003). The jagged rim's notches leave distances up to 0.11 too long, before and after.
-    let (w, l) = (40u32, 80u32);
-    let at = |i: u32, j: u32| j * (w + 1) + i;
-    let positions = (0..=l)
-        .flat_map(|j| (0..=w).map(move |i| Point3::new(i as Real, j as Real, 0.0)))
-        .collect();
-    let mut triangles = Vec::new();
-    for j in 0..l {
-        for i in 0..w {
-            let c = Point3::new(i as Real + 0.5, j as Real + 0.5, 0.0);
-            if (c - Point3::new(20.35, 20.0, 0.0)).norm() < 6.0 {
-                continue;
-            }
-            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            if (i + j) % 2 == 0 {
-                triangles.extend([[a, b, c], [a, c, d]]);
-            } else {
-                triangles.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
-    let s = shape(positions, triangles);
+    // The plate above with a wider hole (radius 6, its centre off the grid's lines), and a
+    // source curve: its section by a plane at a slant to the grid. The shadow runs on for
+    // some 55 rings beyond the rim, beyond the rings near it where every offer is walked
+    // back. Lit vertices at the shadow's edges handed the curve's rays straight through the
+    // hole inwards (0.70 short of the exact distance at (21, 46)); the walk all the way back
+    // at a shadow's edge now holds source curves as it holds point sources (0.003). The
+    // jagged rim's notches leave distances up to 0.11 too long, before and after.
+    let (s, _) = holed_plate(40, 80, (20.35, 20.0), 6.0);
     let normal = skinpath::math::Vector3::new(0.03, 1.0, 0.0).normalize();
-    let source = GeodesicSource::Plane {
-        point: Point3::new(0.0, 8.5, 0.0),
-        normal,
-    };
-    let exact = distance(&s, &source, Method::Exact).vertex_distance;
-    let field = distance(&s, &source, Method::Accurate);
-    assert_eq!(field.method, Method::Accurate);
-    let (mut short, mut long, mut shadowed) = (0.0 as Real, 0.0 as Real, 0);
-    let p = s.mesh.positions();
-    for (v, (a, e)) in field.vertex_distance.iter().zip(&exact).enumerate() {
-        if e.is_finite() {
-            short = short.max(e - a);
-            long = long.max(a - e);
-            // Behind the hole the exact path goes round it: longer than the way straight
-            // to the plane.
-            let straight = (p[v] - Point3::new(0.0, 8.5, 0.0)).dot(&normal).abs();
-            shadowed += usize::from(*e > straight + 1e-6);
-        }
-    }
+    let point = Point3::new(0.0, 8.5, 0.0);
+    let source = GeodesicSource::Plane { point, normal };
+    let (short, long, shadowed) =
+        against_exact_in_the_shadow(&s, &source, |p| (p - point).dot(&normal).abs());
     assert!(shadowed > 500, "{shadowed} vertices in the shadow");
     assert!(short < 0.01, "{short} short of exact");
+    assert!(long < 0.2, "{long} beyond exact");
+}
+
+#[test]
+fn rays_along_a_row_of_edges_are_held_to_a_holes_shadow() {
+    // A plate of 60 × 80 with a hole of radius 10, from its section by the plane y = 6.5,
+    // parallel to the rows of the grid: the rays from the curve to the vertices run along
+    // the columns of edges, through vertices, and the walk back found no edge to cross
+    // beyond the first vertex, so it let every such ray through: distances 3.6 short of the
+    // exact ones behind the hole (a point source at (25, 8) beside it, 0.073). A ray through
+    // a vertex is now walked as if it passed beside it.
+    let (s, at) = holed_plate(60, 80, (30.35, 30.0), 10.0);
+    let point = Point3::new(0.0, 6.5, 0.0);
+    let plane = GeodesicSource::Plane {
+        point,
+        normal: skinpath::math::Vector3::y(),
+    };
+    let (short, long, shadowed) = against_exact_in_the_shadow(&s, &plane, |p| (p.y - 6.5).abs());
+    assert!(shadowed > 500, "{shadowed} vertices in the shadow");
+    assert!(short < 1e-3, "{short} short of exact");
+    assert!(long < 1e-3, "{long} beyond exact");
+    let from = Point3::new(25.0, 8.0, 0.0);
+    let vertex = GeodesicSource::Vertices(vec![at(25, 8)]);
+    let (short, long, shadowed) = against_exact_in_the_shadow(&s, &vertex, |p| (p - from).norm());
+    assert!(shadowed > 500, "{shadowed} vertices in the shadow");
+    assert!(short < 1e-3, "{short} short of exact");
     assert!(long < 0.2, "{long} beyond exact");
 }
 
