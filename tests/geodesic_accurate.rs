@@ -882,6 +882,22 @@ fn rays_along_a_row_of_edges_are_held_to_a_holes_shadow() {
     assert!(long < 0.2, "{long} beyond exact");
 }
 
+#[test]
+fn a_path_round_a_hole_does_not_hold_off_a_shorter_one() {
+    // A plate of 60 × 80 with a hole of radius 6, from the vertex (31, 12) before it. A
+    // vertex beside the shadow whose path went round the hole a little too long made the
+    // check against the crossed edge's other end refuse every better source offered past
+    // it, and the excess spread: 0.118 too long, 183 vertices by more than 0.01. The check
+    // now leaves out an other end whose path bent at a hole's rim: 0.019, 17 vertices.
+    let (s, at) = holed_plate(60, 80, (30.35, 30.0), 6.0);
+    let from = Point3::new(31.0, 12.0, 0.0);
+    let source = GeodesicSource::Vertices(vec![at(31, 12)]);
+    let (short, long, shadowed) = against_exact_in_the_shadow(&s, &source, |p| (p - from).norm());
+    assert!(shadowed > 1000, "{shadowed} vertices in the shadow");
+    assert!(short < 1e-3, "{short} short of exact");
+    assert!(long < 0.05, "{long} beyond exact");
+}
+
 /// A flat annulus between a hole of radius 10 with `rim` sides and an outer polygon of
 /// radius 40 with `outer` sides, the vertices of the outer polygon turned by half a side,
 /// triangulated in one band of long triangles (fans from each outer vertex to the rim, as

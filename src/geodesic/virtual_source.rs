@@ -56,10 +56,10 @@
 //!         each face around it twice.
 //! Limits: a source is offered on wherever the ray from it crosses the last edge before
 //!         the vertex and, near a reflex part of the boundary (the rim of a hole), where the
-//!         ray crosses faces for [`shadow::SHADOW_STEPS`] faces back (see `shadow.rs`); a
-//!         point source at the edge of a hole's shadow, all the way back. Farther back
-//!         nothing holds a source curve to the part of the surface it can see past the rim
-//!         of a hole: the cap R 1000 with a hole 120 mm across, from a plane section on the
+//!         ray crosses faces for [`shadow::SHADOW_STEPS`] faces back (see `shadow.rs`); at
+//!         the edge of a hole's shadow, all the way back. Elsewhere farther back nothing
+//!         holds a source curve to the part of the surface it can see past the rim of a
+//!         hole: the cap R 1000 with a hole 120 mm across, from a plane section on the
 //!         far side, 0.22 mm short at 60k faces and 0.11 mm at 239k (before the walk 15.4
 //!         and 14.6 mm; from a vertex there 0.000 at both, 7.8 and 7.1 mm before); Orion's
 //!         heat shield subdivided to 364k faces from the plane x = 0, 0.072 ft (0.091 before
@@ -71,7 +71,11 @@
 //!         of holes, see [`Solver::holds`], and rim vertices offered the paths leaving the
 //!         rim further back, see [`Solver::up_the_rim`]; 0.056 with the first alone: a vertex
 //!         beside the notch now holds the path from further back, shorter, which the
-//!         vertices past the notch's tip cannot use). Where fronts meet on a very coarse
+//!         vertices past the notch's tip cannot use). Round a wide hole a path that leaves
+//!         the rim some way from the rim vertex it should leave at comes out too long, by
+//!         0.58 mm at 870 mm from a point beyond a hole 400 mm across on the cap of 239k
+//!         faces (2.0 before the check against the other end of the crossed edge left out
+//!         ends whose path bent at a hole's rim). Where fronts meet on a very coarse
 //!         mesh their interpolation may fall short: the flat annulus of 226 faces (a hole of
 //!         200 sides, an outer polygon of 26) from an outer vertex, 0.16 at 82. On surfaces
 //!         of up to 100k faces with a hole the exact method answers first, within its budget
@@ -564,8 +568,16 @@ impl<'a> Solver<'a> {
         // straight line to it may cross the hole while the ray to the vertex goes past it
         // (Orion's heat shield split to 22,776 faces, from x = 0: a row of vertices between
         // a hole and a notch in its rim, each refused the source on the rim below it, took
-        // the path bending at the last and ended 0.078 ft too long).
-        if s.p == s.q && self.settled[other] && self.hole_rim.get(other) != Some(&true) {
+        // the path bending at the last and ended 0.078 ft too long). Nor where the other
+        // end's path bent at a hole's rim: it holds the path round the hole that its
+        // neighbours handed on, an upper bound, and a vertex after it too long refused
+        // every better source after it (the cap R 1000 of 239k faces with a hole 400 mm
+        // across, from a point beyond the hole: 2.0 mm too long there, 0.58 now).
+        if s.p == s.q
+            && self.settled[other]
+            && self.hole_rim.get(other) != Some(&true)
+            && self.rim.get(other).is_none_or(|&r| r == shadow::NO_RIM)
+        {
             let po = self.surface.mesh.positions()[other];
             let short = self.dist[other] - CONSISTENCY * self.surface.mean_edge;
             if s.sigma + (po - s.p).norm() < short {
