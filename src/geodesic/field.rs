@@ -54,7 +54,7 @@ const CORNER_DEFECT: Real = 0.05;
 /// Windows per face the exact method may process there (measured on whole aircraft models
 /// from a vertex: 19–32 per face on a BWB, 45–46 on a wing-body, 35–59 on Orion). A try on
 /// course to overrun it gives up early (see `exact::PROJECTED_OVERRUN`): from the nose of the
-/// wing-body (161 per face) at 26 per face.
+/// wing-body (161 per face) at 13 per face.
 const EXACT_FIRST_WINDOWS_PER_FACE: u64 = 64;
 /// ...and at least this many on a surface of fewer than 65,536 faces (about a second
 /// natively), where a budget per face would give up on work nearly done: windows per face

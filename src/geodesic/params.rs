@@ -98,7 +98,7 @@ pub struct DistanceParams {
     /// `None`: `64·√max(1, E/10⁴)` per edge for `E` edges, plus 2²⁰.
     pub max_windows: Option<u64>,
     /// Accurate method: windows the exact method may process before the virtual-source
-    /// propagation runs instead (it gives up sooner when on course for 1.5 times as many).
+    /// propagation runs instead (it gives up sooner when on course for 1.1 times as many).
     /// `None`: automatic, `64` per face (at least 2²²) on a surface of at most 100k faces
     /// with a corner (an interior vertex whose angle defect exceeds 0.05 rad) or a hole (a
     /// boundary loop turning as a hole's rim does), none elsewhere; `Some(0)`: never. See

@@ -75,7 +75,7 @@ const WINDOW_CAP_BASE: u64 = 1 << 20;
 /// front moves out, so runs that finish within the cap stay below it (on whole aircraft
 /// models from a vertex, at most 1.0 times the cap at any point), and a wing-body model from
 /// its vertex 0 (161 windows per face in all) stops at 26 per face instead of 64.
-const PROJECTED_OVERRUN: Real = 1.5;
+const PROJECTED_OVERRUN: Real = 1.1;
 /// ...once the windows are at least this share of the cap (the first rings around a source
 /// take many windows per vertex reached).
 const PROJECTED_START: Real = 0.125;
