@@ -271,6 +271,17 @@ impl Solver<'_> {
         let normals = &surface.face_normals;
         let (mut g, mut a, mut b) = (t, a, b);
         let (mut c, mut f) = (*crossing, *foot);
+        // A ray through a vertex (a source curve along a row of edges of a structured mesh)
+        // would find no edge to cross beyond it: it is walked as if it passed beside the
+        // vertex, through the edge it crossed (here for the first edge, below for the
+        // others, where it is crossed).
+        let e = pos[b] - pos[a];
+        let along = (c - pos[a]).dot(&e) / e.norm_squared();
+        if along < VERTEX_NUDGE {
+            c = pos[a] + e * VERTEX_NUDGE;
+        } else if along > 1.0 - VERTEX_NUDGE {
+            c = pos[a] + e * (1.0 - VERTEX_NUDGE);
+        }
         // Each round moves one face back, so the walk ends after `steps` faces. The rings
         // from a face to the boundary fall by one a face at most, so a walk that cannot
         // reach it in the faces left stops.
@@ -278,16 +289,6 @@ impl Solver<'_> {
             *walked += 1;
             if usize::from(self.face_gap_rings(g)) > left {
                 return false;
-            }
-            // A ray through a vertex (a source curve along a row of edges of a structured
-            // mesh) would find no edge to cross beyond it: it is walked as if it passed
-            // beside the vertex, through the edge it crossed.
-            let e = pos[b] - pos[a];
-            let along = (c - pos[a]).dot(&e) / e.norm_squared();
-            if along < VERTEX_NUDGE {
-                c = pos[a] + e * VERTEX_NUDGE;
-            } else if along > 1.0 - VERTEX_NUDGE {
-                c = pos[a] + e * (1.0 - VERTEX_NUDGE);
             }
             let Some(h) = surface.across(g, slot(tris[g], a, b)) else {
                 if holes_only && *walked > SHADOW_STEPS && !(self.hole_rim[a] && self.hole_rim[b]) {
@@ -327,7 +328,13 @@ impl Solver<'_> {
                 ((-CROSSING_TOLERANCE..=1.0 + CROSSING_TOLERANCE).contains(&lambda)
                     && s > CROSSING_TOLERANCE
                     && s < 1.0 - CROSSING_TOLERANCE)
-                    .then(|| (p, q, pos[p] + e * lambda.clamp(0.0, 1.0)))
+                    .then(|| {
+                        (
+                            p,
+                            q,
+                            pos[p] + e * lambda.clamp(VERTEX_NUDGE, 1.0 - VERTEX_NUDGE),
+                        )
+                    })
             });
             let Some((p, q, at)) = crossed else {
                 // The foot lies in h (or the ray ends on its edge): it crossed the surface.
