@@ -1353,3 +1353,24 @@ fn plane_section_between_vertices_keeps_to_a_hundredth_of_a_millimetre_at_500k()
     let (near, all) = from_the_plane_between_rings(289);
     assert!(all < 0.009, "{near}, anywhere {all}");
 }
+
+#[test]
+fn a_section_across_a_hole_is_not_carried_over_its_rim() {
+    // A plate of 50 × 70 with a hole of radius 11.9, and its section by a plane that passes
+    // through the hole near its rim: the curve stops at the rim on both sides of the hole.
+    // The rays from a piece's end on the rim cut across the hole's corner and came back to
+    // the surface within a mean edge of the piece, which the walk back allowed to every foot
+    // on a source curve (for a piece run on past its end, which lies off the surface): 0.27
+    // short of the exact distance along the rim beyond. A foot on the piece itself now gets
+    // a tenth of that where the ray leaves through a hole's rim: 0.000.
+    let (s, _) = holed_plate(50, 70, (32.7, 55.6), 11.9);
+    let angle: Real = 2.909;
+    let normal = skinpath::math::Vector3::new(angle.cos(), angle.sin(), 0.0);
+    let point = Point3::new(24.28, 69.21, 0.0);
+    let source = GeodesicSource::Plane { point, normal };
+    let (short, long, shadowed) =
+        against_exact_in_the_shadow(&s, &source, |p| (p - point).dot(&normal).abs());
+    assert!(shadowed > 100, "{shadowed} vertices in the shadow");
+    assert!(short < 0.01, "{short} short of exact");
+    assert!(long < 0.2, "{long} beyond exact");
+}

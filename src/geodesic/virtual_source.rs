@@ -136,6 +136,7 @@ use crate::math::{Point3, Real, Vector3};
 use follow::{CurvePiece, NO_PIECE};
 use queue::Queue;
 pub(super) use run_on::{foot, RunOn};
+use shadow::ExitSlack;
 use wedge::Wedge;
 
 /// Relative slack (of the edge length) for a ray crossing an edge at or near its ends.
@@ -153,6 +154,12 @@ pub(super) const FOLD_COSINE: Real = -0.999;
 /// end of a piece (0.11 mm too far on the 500k cap with half an edge), and running on far
 /// makes a wavy curve seem nearer than it is).
 const EXTENSION: Real = 1.0;
+/// How far (a fraction of the mean edge) from a foot on a piece of a source curve, not run on,
+/// a walked ray may leave the surface (no paper: rounding only, as the piece lies on the
+/// surface; with the reach, a plane section crossing a hole near its rim was carried over
+/// the rim's corner, up to 0.27 edges short of the exact distance beyond; 0.01 and 0.1 gave
+/// the same figures on 200 random holed plates).
+const ON_PIECE_EXIT: Real = 0.1;
 /// Sine of the turn between two pieces of a source curve below which the curve runs
 /// straight on (either way, as rounding has it for the two halves of one edge).
 const STRAIGHT: Real = 1e-9;
@@ -524,7 +531,9 @@ impl<'a> Solver<'a> {
             } else {
                 0
             };
-            if steps > 0 && self.through_a_gap(&f, &(f + w * tau), t, a, b, steps) {
+            if steps > 0
+                && self.through_a_gap(&f, &(f + w * tau), (t, a, b), steps, self.exit_slack(s, &f))
+            {
                 return None;
             }
         }
@@ -539,6 +548,34 @@ impl<'a> Solver<'a> {
             return None;
         }
         Some(Offered::Ray(d))
+    }
+
+    /// How far from its foot `f` on source `s` a walked ray may leave the surface and still be
+    /// kept (see `shadow.rs`): a foot where a piece of a source curve runs on past its end may
+    /// lie off the surface, up to the reach. A foot on the piece itself lies on the surface,
+    /// and its ray may leave through a hole's rim only within [`ON_PIECE_EXIT`] of the mean
+    /// edge; through an outer border, by the reach (the path round the notches of a jagged
+    /// border, a patch's cut along the faces, is not found: a patch of the BWB model from its
+    /// boundary, 0.15 → 0.50 too long with the smaller slack there too). A point source keeps
+    /// the reach. (A point source's rays from a rim vertex that leave the surface within half
+    /// a mean edge cut across a corner of the hole: refusing them took the holed plates'
+    /// distances right, but on Orion's heat shield split to 22,776 faces the paths round the
+    /// rim that should take over came out up to 0.013 ft too long: 36 → 62 vertices by over
+    /// 0.01.)
+    #[inline(always)]
+    fn exit_slack(&self, s: &Virtual, f: &Point3) -> ExitSlack {
+        let mut slack = ExitSlack {
+            hole: self.reach,
+            border: self.reach,
+        };
+        if s.p != s.q {
+            let e = s.q - s.p;
+            let along = (f - s.p).dot(&e);
+            if (0.0..=e.norm_squared()).contains(&along) {
+                slack.hole = ON_PIECE_EXIT * self.surface.mean_edge;
+            }
+        }
+        slack
     }
 
     /// Whether distance `d` offered to the vertex at `px` by source `s`, handed on by `giver`

@@ -19,7 +19,7 @@
 //!         most [`LONG_WALK_FACES`](super::shadow::LONG_WALK_FACES) faces per face of the
 //!         surface in all (5–8 % more time on that heat shield at 364k faces).
 
-use super::shadow::{LONG_WALK, NO_RIM, SHADOW_STEPS};
+use super::shadow::{ExitSlack, LONG_WALK, NO_RIM, SHADOW_STEPS};
 use super::{
     corners_after, crossing, Rotation, Solver, Virtual, Wedge, CONSISTENCY, CROSSING_TOLERANCE,
     FOLD_COSINE,
@@ -162,7 +162,7 @@ impl Solver<'_> {
                 steps,
                 &mut walked,
                 false,
-                false,
+                ExitSlack::NONE,
             );
             self.rim_walks.set(left - walked);
             return !through && walked < steps;

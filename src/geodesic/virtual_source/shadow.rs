@@ -41,32 +41,38 @@
 //!         through (a plate with a hole 20 edges across, from its section by a plane parallel
 //!         to the rows of its grid, whose rays run along the columns of edges: 3.6 edges short
 //!         of the exact distance behind the hole; a point source beside it, 0.073; now 0.000
-//!         both). A ray that left the surface no
-//!         farther than a source curve runs on beyond its ends (see [`RunOn`](super::RunOn))
-//!         is kept: a piece of a border run on along its line lies off the surface where the
-//!         border turns away. Only faces within [`SHADOW_STEPS`] rings of a reflex boundary
-//!         vertex are walked (a ray leaves the surface and comes back only past one), and a
-//!         walk stops where the boundary is more rings away than faces are left. The walk
-//!         all the way back starts only at the shadows of holes (loops that turn as a hole's
-//!         rim does, not the notches of an outer border), and beyond [`SHADOW_STEPS`] faces
-//!         it refuses only a ray that leaves through a hole's rim: a ray that runs beside a
-//!         jagged outer border (a patch's, cut along the faces) leaves it at a notch, where
-//!         the path round the notches is not found. Source curves have it as point sources
-//!         do. (They had not: a piece that ends on a hole's rim sends its rays along it, and
-//!         on the heat shield split to 22,776 faces from x = 0 distances came out up to
-//!         0.11 ft too long with it, 0.078 without. Since the check against the other end of
-//!         the crossed edge leaves out hole rims and rim vertices offer the paths leaving the
-//!         rim further back, the figures there are the same with it and without, 0.075.)
-//!         From a curve, with it: the cap R 1000 of 239k faces with a hole 240 mm across,
-//!         from its section by a plane on the far side, 7.46 → 0.11 mm short of the exact
-//!         distance (holes 400 and 600 mm across: 6.6 → 0.14 and 3.2 → 0.17); the heat
-//!         shield split to 91k and 364k faces, mean error 0.00175 → 0.00070 and 0.00358 →
-//!         0.00153 ft, most short 0.061 → 0.061 and 0.091 → 0.072 ft; but more vertices too
-//!         long by over 0.01 ft, 38 → 374 and 20 → 50 (the most 0.021 → 0.037 and 0.017 →
-//!         0.017 ft), where a ray refused at a rim leaves a vertex a longer path; 62 and 10
-//!         (the most 0.024 and 0.017) since the check against the other end of the crossed
-//!         edge leaves out ends whose path bent at a hole's rim (`Solver::holds`). 15 % more
-//!         time at 364k faces.
+//!         both). A ray that left the surface no farther from its foot than a source curve runs
+//!         on beyond its ends (see [`RunOn`](super::RunOn)) is kept where the foot is so run
+//!         on: a piece of a border run on along its line lies off the surface where the border
+//!         turns away. A foot on the piece itself lies on the surface, and its ray is kept only
+//!         within a tenth of a mean edge where it leaves through a hole's rim (it had the same
+//!         allowance: 200 random plates of 50 × 70 unit squares, each with a hole, from a
+//!         random point or plane section, 51 → 41 cases short of the exact distance by over
+//!         0.01 edge, mean error 0.0028 → 0.0007 edge; the heat shield split to 91k faces, mean
+//!         error 0.00047 → 0.00042 ft; a section crossing a hole near its rim was
+//!         carried over the rim's corner, 0.27 edges short beyond). A point source keeps the
+//!         allowance (see `Solver::exit_slack`). Only faces within [`SHADOW_STEPS`] rings of a
+//!         reflex boundary vertex are walked (a ray leaves the surface and comes back only past
+//!         one), and a walk stops where the boundary is more rings away than faces are left.
+//!         The walk all the way back starts only at the shadows of holes (loops that turn as a
+//!         hole's rim does, not the notches of an outer border), and beyond [`SHADOW_STEPS`]
+//!         faces it refuses only a ray that leaves through a hole's rim: a ray that runs beside
+//!         a jagged outer border (a patch's, cut along the faces) leaves it at a notch, where
+//!         the path round the notches is not found. Source curves have it as point sources do.
+//!         (They had not: a piece that ends on a hole's rim sends its rays along it, and on the
+//!         heat shield split to 22,776 faces from x = 0 distances came out up to 0.11 ft too
+//!         long with it, 0.078 without. Since the check against the other end of the crossed
+//!         edge leaves out hole rims and rim vertices offer the paths leaving the rim further
+//!         back, the figures there are the same with it and without, 0.075.) From a curve, with
+//!         it: the cap R 1000 of 239k faces with a hole 240 mm across, from its section by a
+//!         plane on the far side, 7.46 → 0.11 mm short of the exact distance (holes 400 and 600
+//!         mm across: 6.6 → 0.14 and 3.2 → 0.17); the heat shield split to 91k and 364k faces,
+//!         mean error 0.00175 → 0.00070 and 0.00358 → 0.00153 ft, most short 0.061 → 0.061 and
+//!         0.091 → 0.072 ft; but more vertices too long by over 0.01 ft, 38 → 374 and 20 → 50
+//!         (the most 0.021 → 0.037 and 0.017 → 0.017 ft), where a ray refused at a rim leaves a
+//!         vertex a longer path; 62 and 10 (the most 0.024 and 0.017) since the check against
+//!         the other end of the crossed edge leaves out ends whose path bent at a hole's rim
+//!         (`Solver::holds`). 15 % more time at 364k faces.
 //!         Limits: away from a shadow's edge, from a curve, a ray that left the surface more
 //!         than [`SHADOW_STEPS`] faces back is not seen (the heat shield split to 364k faces:
 //!         0.072 ft short).
@@ -113,6 +119,22 @@ pub(super) const LONG_WALK_FACES: usize = 4;
 /// border to turn away there (no paper: far above rounding on a straight border, below the
 /// turn at each vertex of the rim of a hole a thousand edges round).
 const REFLEX_TURN: Real = 1e-3;
+
+/// How far from its foot a walked ray may leave the surface and still be kept: through an
+/// edge of a hole's rim, and through any other border edge (see `Solver::exit_slack`).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ExitSlack {
+    pub(super) hole: Real,
+    pub(super) border: Real,
+}
+
+impl ExitSlack {
+    /// None anywhere.
+    pub(super) const NONE: ExitSlack = ExitSlack {
+        hole: 0.0,
+        border: 0.0,
+    };
+}
 
 /// The slot of the edge `a – b` in triangle `tri` (slot `k` runs from corner `k` to `k + 1`).
 #[inline(always)]
@@ -219,16 +241,15 @@ impl Solver<'_> {
     /// in the plane of `t`, the foot beyond the edge), leaves the surface within `steps`
     /// faces back from the edge: [`SHADOW_STEPS`], or [`LONG_WALK`] as far as the budget of
     /// long walks allows (once it is spent, [`SHADOW_STEPS`] near a boundary and none
-    /// elsewhere).
+    /// elsewhere); a ray that leaves no farther than `run_on` allows from its foot is kept.
     #[inline(never)]
     pub(super) fn through_a_gap(
         &self,
         foot: &Point3,
         crossing: &Point3,
-        t: usize,
-        a: usize,
-        b: usize,
+        (t, a, b): (usize, usize, usize),
         steps: usize,
+        run_on: ExitSlack,
     ) -> bool {
         if steps > SHADOW_STEPS {
             // As far as the budget left allows (a walk cut short lets the ray through, as the
@@ -238,7 +259,7 @@ impl Solver<'_> {
             if steps > SHADOW_STEPS {
                 let mut walked = 0;
                 let through =
-                    self.walk_back(foot, crossing, (t, a, b), steps, &mut walked, true, true);
+                    self.walk_back(foot, crossing, (t, a, b), steps, &mut walked, true, run_on);
                 self.long_walks.set(left - walked);
                 return through;
             }
@@ -246,14 +267,22 @@ impl Solver<'_> {
                 return false;
             }
         }
-        self.walk_back(foot, crossing, (t, a, b), SHADOW_STEPS, &mut 0, false, true)
+        self.walk_back(
+            foot,
+            crossing,
+            (t, a, b),
+            SHADOW_STEPS,
+            &mut 0,
+            false,
+            run_on,
+        )
     }
 
     /// [`Self::through_a_gap`] within `steps` faces, counting the faces crossed in `walked`;
     /// with `holes_only`, a ray that leaves farther back than [`SHADOW_STEPS`] faces through
     /// an edge not on the rim of a hole (past a notch of an outer border it runs beside) is
-    /// let through; with `run_on`, so is one that leaves no farther from its foot than a
-    /// source curve runs on (a point source on a rim has none).
+    /// let through; so is one that leaves no farther than `run_on` allows from its foot (see
+    /// `Solver::exit_slack`; none for a point source on a rim).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub(super) fn walk_back(
@@ -264,7 +293,7 @@ impl Solver<'_> {
         steps: usize,
         walked: &mut usize,
         holes_only: bool,
-        run_on: bool,
+        run_on: ExitSlack,
     ) -> bool {
         let surface = self.surface;
         let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
@@ -298,7 +327,12 @@ impl Solver<'_> {
                 // unless from no farther than a source curve runs on beyond its ends (a
                 // piece of a border, run on along its line, lies off the surface where the
                 // border turns away).
-                return !run_on || (f - c).norm() > self.reach;
+                let slack = if self.hole_rim.get(a) == Some(&true) && self.hole_rim[b] {
+                    run_on.hole
+                } else {
+                    run_on.border
+                };
+                return (f - c).norm() > slack;
             };
             let r = Rotation::new(&normals[g], &normals[h]);
             if r.c <= FOLD_COSINE {
