@@ -160,6 +160,12 @@ const EXTENSION: Real = 1.0;
 /// the rim's corner, up to 0.27 edges short of the exact distance beyond; 0.01 and 0.1 gave
 /// the same figures on 200 random holed plates).
 const ON_PIECE_EXIT: Real = 0.1;
+/// How much longer (a fraction of the mean edge) than a point source's ray that leaves the
+/// surface within the reach the path round the nearer end of the edge it leaves by may be
+/// (no paper: the rays of a rim vertex's source across a corner of a hole cost 0.09 to 0.34
+/// there, 0.18 short of the exact distance beyond; 0.01 to 0.1 gave the same figures on 200
+/// random holed plates, 0.2 let most of those rays through).
+const POINT_EXIT_DETOUR: Real = 0.05;
 /// Sine of the turn between two pieces of a source curve below which the curve runs
 /// straight on (either way, as rounding has it for the two halves of one edge).
 const STRAIGHT: Real = 1e-9;
@@ -556,19 +562,22 @@ impl<'a> Solver<'a> {
     /// and its ray may leave through a hole's rim only within [`ON_PIECE_EXIT`] of the mean
     /// edge; through an outer border, by the reach (the path round the notches of a jagged
     /// border, a patch's cut along the faces, is not found: a patch of the BWB model from its
-    /// boundary, 0.15 → 0.50 too long with the smaller slack there too). A point source keeps
-    /// the reach. (A point source's rays from a rim vertex that leave the surface within half
-    /// a mean edge cut across a corner of the hole: refusing them took the holed plates'
-    /// distances right, but on Orion's heat shield split to 22,776 faces the paths round the
-    /// rim that should take over came out up to 0.013 ft too long: 36 → 62 vertices by over
-    /// 0.01.)
+    /// boundary, 0.15 → 0.50 too long with the smaller slack there too). A point source's ray
+    /// may leave within the reach where the path round the nearer end of the edge it leaves by
+    /// is no more than [`POINT_EXIT_DETOUR`] of the mean edge longer. (With a smaller slack
+    /// instead, half a mean edge, the holed plates came out as right, but on Orion's heat
+    /// shield split to 22,776 faces the paths round the rim that took over from rays grazing
+    /// it came out up to 0.013 ft too long: 36 → 62 vertices by over 0.01.)
     #[inline(always)]
     fn exit_slack(&self, s: &Virtual, f: &Point3) -> ExitSlack {
         let mut slack = ExitSlack {
             hole: self.reach,
             border: self.reach,
+            detour: Real::INFINITY,
         };
-        if s.p != s.q {
+        if s.p == s.q {
+            slack.detour = POINT_EXIT_DETOUR * self.surface.mean_edge;
+        } else {
             let e = s.q - s.p;
             let along = (f - s.p).dot(&e);
             if (0.0..=e.norm_squared()).contains(&along) {

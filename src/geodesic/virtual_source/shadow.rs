@@ -49,25 +49,30 @@
 //!         allowance: 200 random plates of 50 × 70 unit squares, each with a hole, from a
 //!         random point or plane section, 51 → 41 cases short of the exact distance by over
 //!         0.01 edge, mean error 0.0028 → 0.0007 edge; the heat shield split to 91k faces, mean
-//!         error 0.00047 → 0.00042 ft; a section crossing a hole near its rim was
-//!         carried over the rim's corner, 0.27 edges short beyond). A point source keeps the
-//!         allowance (see `Solver::exit_slack`). Only faces within [`SHADOW_STEPS`] rings of a
-//!         reflex boundary vertex are walked (a ray leaves the surface and comes back only past
-//!         one), and a walk stops where the boundary is more rings away than faces are left.
-//!         The walk all the way back starts only at the shadows of holes (loops that turn as a
-//!         hole's rim does, not the notches of an outer border), and beyond [`SHADOW_STEPS`]
-//!         faces it refuses only a ray that leaves through a hole's rim: a ray that runs beside
-//!         a jagged outer border (a patch's, cut along the faces) leaves it at a notch, where
-//!         the path round the notches is not found. Source curves have it as point sources do.
-//!         (They had not: a piece that ends on a hole's rim sends its rays along it, and on the
-//!         heat shield split to 22,776 faces from x = 0 distances came out up to 0.11 ft too
-//!         long with it, 0.078 without. Since the check against the other end of the crossed
-//!         edge leaves out hole rims and rim vertices offer the paths leaving the rim further
-//!         back, the figures there are the same with it and without, 0.075.) From a curve, with
-//!         it: the cap R 1000 of 239k faces with a hole 240 mm across, from its section by a
-//!         plane on the far side, 7.46 → 0.11 mm short of the exact distance (holes 400 and 600
-//!         mm across: 6.6 → 0.14 and 3.2 → 0.17); the heat shield split to 91k and 364k faces,
-//!         mean error 0.00175 → 0.00070 and 0.00358 → 0.00153 ft, most short 0.061 → 0.061 and
+//!         error 0.00047 → 0.00042 ft; a section crossing a hole near its rim was carried over
+//!         the rim's corner, 0.27 edges short beyond). A point source keeps the allowance, but
+//!         within it, within [`DETOUR_WALK`] faces back, a ray that left by an edge away from
+//!         its source vertex is refused where the path round the nearer end of that edge is
+//!         longer by over [`ExitSlack::detour`]: a rim vertex's source offered across a corner
+//!         of the hole (the same plates, 41 → 4 cases, mean error 0.0007 → 0.00045 edge; 0.18
+//!         edges short behind such a corner on gently curved plates; see `Solver::exit_slack`).
+//!         Only faces within [`SHADOW_STEPS`] rings of a reflex boundary vertex are walked (a
+//!         ray leaves the surface and comes back only past one), and a walk stops where the
+//!         boundary is more rings away than faces are left. The walk all the way back starts
+//!         only at the shadows of holes (loops that turn as a hole's rim does, not the notches
+//!         of an outer border), and beyond [`SHADOW_STEPS`] faces it refuses only a ray that
+//!         leaves through a hole's rim: a ray that runs beside a jagged outer border (a
+//!         patch's, cut along the faces) leaves it at a notch, where the path round the notches
+//!         is not found. Source curves have it as point sources do. (They had not: a piece that
+//!         ends on a hole's rim sends its rays along it, and on the heat shield split to 22,776
+//!         faces from x = 0 distances came out up to 0.11 ft too long with it, 0.078 without.
+//!         Since the check against the other end of the crossed edge leaves out hole rims and
+//!         rim vertices offer the paths leaving the rim further back, the figures there are the
+//!         same with it and without, 0.075.) From a curve, with it: the cap R 1000 of 239k
+//!         faces with a hole 240 mm across, from its section by a plane on the far side,
+//!         7.46 → 0.11 mm short of the exact distance (holes 400 and 600 mm across: 6.6 → 0.14
+//!         and 3.2 → 0.17); the heat shield split to 91k and 364k faces, mean error
+//!         0.00175 → 0.00070 and 0.00358 → 0.00153 ft, most short 0.061 → 0.061 and
 //!         0.091 → 0.072 ft; but more vertices too long by over 0.01 ft, 38 → 374 and 20 → 50
 //!         (the most 0.021 → 0.037 and 0.017 → 0.017 ft), where a ray refused at a rim leaves a
 //!         vertex a longer path; 62 and 10 (the most 0.024 and 0.017) since the check against
@@ -105,6 +110,17 @@ pub(super) const SHADOW_STEPS: usize = 32;
 /// Where along the edge it crosses (a fraction of the edge) a walked ray through one of the
 /// edge's ends is moved to (see [`Solver::walk_back`]).
 const VERTEX_NUDGE: Real = 1e-6;
+/// How far (a fraction of the mean edge) a point source's foot may lie from an end of the edge
+/// its walked ray leaves the surface by and still be taken for that end, the ray leaving by
+/// an edge at its own source vertex (no paper: after a walk of some hundred faces over the cap
+/// R 1000 the foot lay up to half a mean edge off its vertex; within [`DETOUR_WALK`] faces,
+/// under a quarter).
+const OWN_EDGE: Real = 0.25;
+/// Faces back within which a point source's ray is held to [`ExitSlack::detour`] (no paper:
+/// on the holed plates the rays across a hole's corner left the surface within 15 faces; on
+/// the cap R 1000 with a hole 120 mm across, rays that kept to the rim within their slack left
+/// after 100 to 290 faces, their unfolded feet up to half a mean edge off their vertices).
+const DETOUR_WALK: usize = 2 * SHADOW_STEPS;
 /// More rings from a boundary than a walk can cross.
 pub(super) const FAR: u8 = u8::MAX;
 /// A source that bent at no reflex boundary vertex (see `Solver::rim`).
@@ -120,12 +136,17 @@ pub(super) const LONG_WALK_FACES: usize = 4;
 /// turn at each vertex of the rim of a hole a thousand edges round).
 const REFLEX_TURN: Real = 1e-3;
 
-/// How far from its foot a walked ray may leave the surface and still be kept: through an
-/// edge of a hole's rim, and through any other border edge (see `Solver::exit_slack`).
+/// How far from its foot a walked ray may leave the surface and still be kept (see
+/// `Solver::exit_slack`).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct ExitSlack {
+    /// Through an edge of a hole's rim...
     pub(super) hole: Real,
+    /// ...through any other border edge...
     pub(super) border: Real,
+    /// ...and, within those, how much longer the path round the nearer end of that edge may
+    /// be (`∞`: no bound), where the foot is not at one of its ends (see [`OWN_EDGE`]).
+    pub(super) detour: Real,
 }
 
 impl ExitSlack {
@@ -133,6 +154,7 @@ impl ExitSlack {
     pub(super) const NONE: ExitSlack = ExitSlack {
         hole: 0.0,
         border: 0.0,
+        detour: Real::INFINITY,
     };
 }
 
@@ -332,7 +354,23 @@ impl Solver<'_> {
                 } else {
                     run_on.border
                 };
-                return (f - c).norm() > slack;
+                let off = (f - c).norm();
+                if off > slack {
+                    return true;
+                }
+                // Within the slack, a point source's ray is refused where it cut across a
+                // corner of the gap: where it left by an edge away from its source (its foot
+                // not at an end of the edge) and going round the nearer end is longer by
+                // more than the detour allowed. Only a few rings back: the unfolded foot
+                // drifts off its vertex along a long walk.
+                if run_on.detour < Real::INFINITY && *walked <= DETOUR_WALK {
+                    let (pa, pb) = (pos[a], pos[b]);
+                    let (fa, fb) = ((f - pa).norm(), (f - pb).norm());
+                    let round = (fa + (pa - c).norm()).min(fb + (pb - c).norm());
+                    return fa.min(fb) > OWN_EDGE * surface.mean_edge
+                        && round - off > run_on.detour;
+                }
+                return false;
             };
             let r = Rotation::new(&normals[g], &normals[h]);
             if r.c <= FOLD_COSINE {
