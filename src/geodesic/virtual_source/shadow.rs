@@ -47,37 +47,37 @@
 //!         turns away. A foot on the piece itself lies on the surface, and its ray is kept only
 //!         within a tenth of a mean edge where it leaves through a hole's rim (it had the same
 //!         allowance: 200 random plates of 50 × 70 unit squares, each with a hole, from a
-//!         random point or plane section, 51 → 41 cases short of the exact distance by over
-//!         0.01 edge, mean error 0.0028 → 0.0007 edge; the heat shield split to 91k faces, mean
-//!         error 0.00047 → 0.00042 ft; a section crossing a hole near its rim was carried over
-//!         the rim's corner, 0.27 edges short beyond). A point source keeps the allowance, but
-//!         within it, within [`DETOUR_WALK`] faces back, a ray that left by an edge away from
-//!         its source vertex is refused where the path round the nearer end of that edge is
-//!         longer by over [`ExitSlack::detour`]: a rim vertex's source offered across a corner
-//!         of the hole (the same plates, 41 → 4 cases, mean error 0.0007 → 0.00045 edge; 0.18
-//!         edges short behind such a corner on gently curved plates; see `Solver::exit_slack`).
-//!         Only faces within [`SHADOW_STEPS`] rings of a reflex boundary vertex are walked (a
-//!         ray leaves the surface and comes back only past one), and a walk stops where the
-//!         boundary is more rings away than faces are left. The walk all the way back starts
-//!         only at the shadows of holes (loops that turn as a hole's rim does, not the notches
-//!         of an outer border), and beyond [`SHADOW_STEPS`] faces it refuses only a ray that
-//!         leaves through a hole's rim: a ray that runs beside a jagged outer border (a
-//!         patch's, cut along the faces) leaves it at a notch, where the path round the notches
-//!         is not found. Source curves have it as point sources do. (They had not: a piece that
-//!         ends on a hole's rim sends its rays along it, and on the heat shield split to 22,776
-//!         faces from x = 0 distances came out up to 0.11 ft too long with it, 0.078 without.
-//!         Since the check against the other end of the crossed edge leaves out hole rims and
-//!         rim vertices offer the paths leaving the rim further back, the figures there are the
-//!         same with it and without, 0.075.) From a curve, with it: the cap R 1000 of 239k
-//!         faces with a hole 240 mm across, from its section by a plane on the far side,
-//!         7.46 → 0.11 mm short of the exact distance (holes 400 and 600 mm across: 6.6 → 0.14
-//!         and 3.2 → 0.17); the heat shield split to 91k and 364k faces, mean error
-//!         0.00175 → 0.00070 and 0.00358 → 0.00153 ft, most short 0.061 → 0.061 and
-//!         0.091 → 0.072 ft; but more vertices too long by over 0.01 ft, 38 → 374 and 20 → 50
-//!         (the most 0.021 → 0.037 and 0.017 → 0.017 ft), where a ray refused at a rim leaves a
-//!         vertex a longer path; 62 and 10 (the most 0.024 and 0.017) since the check against
-//!         the other end of the crossed edge leaves out ends whose path bent at a hole's rim
-//!         (`Solver::holds`). 15 % more time at 364k faces.
+//!         random point or plane section (`examples/geodesic_holes.rs`), 51 → 41 cases short of
+//!         the exact distance by over 0.01 edge, mean error 0.0028 → 0.0007 edge; the heat
+//!         shield split to 91k faces, mean error 0.00047 → 0.00042 ft; a section crossing a
+//!         hole near its rim was carried over the rim's corner, 0.27 edges short beyond). A
+//!         point source keeps the allowance, but within it, within [`DETOUR_WALK`] faces back,
+//!         a ray that left by an edge away from its source vertex is refused where the path
+//!         round the nearer end of that edge is longer by over [`ExitSlack::detour`]: a rim
+//!         vertex's source offered across a corner of the hole (the same plates, 41 → 4 cases,
+//!         mean error 0.0007 → 0.00045 edge; 0.18 edges short behind such a corner on gently
+//!         curved plates; see `Solver::exit_slack`). Only faces within [`SHADOW_STEPS`] rings
+//!         of a reflex boundary vertex are walked (a ray leaves the surface and comes back only
+//!         past one), and a walk stops where the boundary is more rings away than faces are
+//!         left. The walk all the way back starts only at the shadows of holes (loops that turn
+//!         as a hole's rim does, not the notches of an outer border), and beyond
+//!         [`SHADOW_STEPS`] faces it refuses only a ray that leaves through a hole's rim: a ray
+//!         that runs beside a jagged outer border (a patch's, cut along the faces) leaves it at
+//!         a notch, where the path round the notches is not found. Source curves have it as
+//!         point sources do. (They had not: a piece that ends on a hole's rim sends its rays
+//!         along it, and on the heat shield split to 22,776 faces from x = 0 distances came out
+//!         up to 0.11 ft too long with it, 0.078 without. Since the check against the other end
+//!         of the crossed edge leaves out hole rims and rim vertices offer the paths leaving
+//!         the rim further back, the figures there are the same with it and without, 0.075.)
+//!         From a curve, with it: the cap R 1000 of 239k faces with a hole 240 mm across, from
+//!         its section by a plane on the far side, 7.46 → 0.11 mm short of the exact distance
+//!         (holes 400 and 600 mm across: 6.6 → 0.14 and 3.2 → 0.17); the heat shield split to
+//!         91k and 364k faces, mean error 0.00175 → 0.00070 and 0.00358 → 0.00153 ft, most
+//!         short 0.061 → 0.061 and 0.091 → 0.072 ft; but more vertices too long by over 0.01
+//!         ft, 38 → 374 and 20 → 50 (the most 0.021 → 0.037 and 0.017 → 0.017 ft), where a ray
+//!         refused at a rim leaves a vertex a longer path; 62 and 10 (the most 0.024 and 0.017)
+//!         since the check against the other end of the crossed edge leaves out ends whose path
+//!         bent at a hole's rim (`Solver::holds`). 15 % more time at 364k faces.
 //!         Limits: away from a shadow's edge, from a curve, a ray that left the surface more
 //!         than [`SHADOW_STEPS`] faces back is not seen (the heat shield split to 364k faces:
 //!         0.072 ft short).
