@@ -136,7 +136,6 @@ use crate::math::{Point3, Real, Vector3};
 use follow::{CurvePiece, NO_PIECE};
 use queue::Queue;
 pub(super) use run_on::{foot, RunOn};
-use shadow::ExitSlack;
 use wedge::Wedge;
 
 /// Relative slack (of the edge length) for a ray crossing an edge at or near its ends.
@@ -154,18 +153,6 @@ pub(super) const FOLD_COSINE: Real = -0.999;
 /// end of a piece (0.11 mm too far on the 500k cap with half an edge), and running on far
 /// makes a wavy curve seem nearer than it is).
 const EXTENSION: Real = 1.0;
-/// How far (a fraction of the mean edge) from a foot on a piece of a source curve, not run on,
-/// a walked ray may leave the surface (no paper: rounding only, as the piece lies on the
-/// surface; with the reach, a plane section crossing a hole near its rim was carried over
-/// the rim's corner, up to 0.27 edges short of the exact distance beyond; 0.01 and 0.1 gave
-/// the same figures on 200 random holed plates).
-const ON_PIECE_EXIT: Real = 0.1;
-/// How much longer (a fraction of the mean edge) than a point source's ray that leaves the
-/// surface within the reach the path round the nearer end of the edge it leaves by may be
-/// (no paper: the rays of a rim vertex's source across a corner of a hole cost 0.09 to 0.34
-/// there, 0.18 short of the exact distance beyond; 0.01 to 0.1 gave the same figures on 200
-/// random holed plates, 0.2 let most of those rays through).
-const POINT_EXIT_DETOUR: Real = 0.05;
 /// Sine of the turn between two pieces of a source curve below which the curve runs
 /// straight on (either way, as rounding has it for the two halves of one edge).
 const STRAIGHT: Real = 1e-9;
@@ -554,37 +541,6 @@ impl<'a> Solver<'a> {
             return None;
         }
         Some(Offered::Ray(d))
-    }
-
-    /// How far from its foot `f` on source `s` a walked ray may leave the surface and still be
-    /// kept (see `shadow.rs`): a foot where a piece of a source curve runs on past its end may
-    /// lie off the surface, up to the reach. A foot on the piece itself lies on the surface,
-    /// and its ray may leave through a hole's rim only within [`ON_PIECE_EXIT`] of the mean
-    /// edge; through an outer border, by the reach (the path round the notches of a jagged
-    /// border, a patch's cut along the faces, is not found: a patch of the BWB model from its
-    /// boundary, 0.15 → 0.50 too long with the smaller slack there too). A point source's ray
-    /// may leave within the reach where the path round the nearer end of the edge it leaves by
-    /// is no more than [`POINT_EXIT_DETOUR`] of the mean edge longer. (With a smaller slack
-    /// instead, half a mean edge, the holed plates came out as right, but on Orion's heat
-    /// shield split to 22,776 faces the paths round the rim that took over from rays grazing
-    /// it came out up to 0.013 ft too long: 36 → 62 vertices by over 0.01.)
-    #[inline(always)]
-    fn exit_slack(&self, s: &Virtual, f: &Point3) -> ExitSlack {
-        let mut slack = ExitSlack {
-            hole: self.reach,
-            border: self.reach,
-            detour: Real::INFINITY,
-        };
-        if s.p == s.q {
-            slack.detour = POINT_EXIT_DETOUR * self.surface.mean_edge;
-        } else {
-            let e = s.q - s.p;
-            let along = (f - s.p).dot(&e);
-            if (0.0..=e.norm_squared()).contains(&along) {
-                slack.hole = ON_PIECE_EXIT * self.surface.mean_edge;
-            }
-        }
-        slack
     }
 
     /// Whether distance `d` offered to the vertex at `px` by source `s`, handed on by `giver`

@@ -96,7 +96,7 @@
 //!         way back from the vertex offered (see `round_a_hole.rs`), within a budget of their
 //!         own of as many faces ([`LONG_WALK`] at least).
 
-use super::{Rotation, Solver, CROSSING_TOLERANCE, FOLD_COSINE};
+use super::{Rotation, Solver, Virtual, CROSSING_TOLERANCE, FOLD_COSINE};
 use crate::geodesic::source::boundary_loops;
 use crate::geodesic::surface::Surface;
 use crate::geodesic::unfolding::{boundary_turn, is_hole_rim};
@@ -121,6 +121,18 @@ const OWN_EDGE: Real = 0.25;
 /// the cap R 1000 with a hole 120 mm across, rays that kept to the rim within their slack left
 /// after 100 to 290 faces, their unfolded feet up to half a mean edge off their vertices).
 const DETOUR_WALK: usize = 2 * SHADOW_STEPS;
+/// How far (a fraction of the mean edge) from a foot on a piece of a source curve, not run on,
+/// a walked ray may leave the surface (no paper: rounding only, as the piece lies on the
+/// surface; with the reach, a plane section crossing a hole near its rim was carried over
+/// the rim's corner, up to 0.27 edges short of the exact distance beyond; 0.01 and 0.1 gave
+/// the same figures on 200 random holed plates).
+const ON_PIECE_EXIT: Real = 0.1;
+/// How much longer (a fraction of the mean edge) than a point source's ray that leaves the
+/// surface within the reach the path round the nearer end of the edge it leaves by may be
+/// (no paper: the rays of a rim vertex's source across a corner of a hole cost 0.09 to 0.34
+/// there, 0.18 short of the exact distance beyond; 0.01 to 0.1 gave the same figures on 200
+/// random holed plates, 0.2 let most of those rays through).
+const POINT_EXIT_DETOUR: Real = 0.05;
 /// More rings from a boundary than a walk can cross.
 pub(super) const FAR: u8 = u8::MAX;
 /// A source that bent at no reflex boundary vertex (see `Solver::rim`).
@@ -249,6 +261,37 @@ pub(super) fn on_hole_rims(surface: &Surface) -> Vec<bool> {
 }
 
 impl Solver<'_> {
+    /// How far from its foot `f` on source `s` a walked ray may leave the surface and still be
+    /// kept (see `shadow.rs`): a foot where a piece of a source curve runs on past its end may
+    /// lie off the surface, up to the reach. A foot on the piece itself lies on the surface,
+    /// and its ray may leave through a hole's rim only within [`ON_PIECE_EXIT`] of the mean
+    /// edge; through an outer border, by the reach (the path round the notches of a jagged
+    /// border, a patch's cut along the faces, is not found: a patch of the BWB model from its
+    /// boundary, 0.15 → 0.50 too long with the smaller slack there too). A point source's ray
+    /// may leave within the reach where the path round the nearer end of the edge it leaves by
+    /// is no more than [`POINT_EXIT_DETOUR`] of the mean edge longer. (With a smaller slack
+    /// instead, half a mean edge, the holed plates came out as right, but on Orion's heat
+    /// shield split to 22,776 faces the paths round the rim that took over from rays grazing
+    /// it came out up to 0.013 ft too long: 36 → 62 vertices by over 0.01.)
+    #[inline(always)]
+    pub(super) fn exit_slack(&self, s: &Virtual, f: &Point3) -> ExitSlack {
+        let mut slack = ExitSlack {
+            hole: self.reach,
+            border: self.reach,
+            detour: Real::INFINITY,
+        };
+        if s.p == s.q {
+            slack.detour = POINT_EXIT_DETOUR * self.surface.mean_edge;
+        } else {
+            let e = s.q - s.p;
+            let along = (f - s.p).dot(&e);
+            if (0.0..=e.norm_squared()).contains(&along) {
+                slack.hole = ON_PIECE_EXIT * self.surface.mean_edge;
+            }
+        }
+        slack
+    }
+
     /// The fewest rings between face `f`'s corners and a reflex boundary vertex (see
     /// [`rings_to_a_gap`]; `gap_rings` must not be empty). From one face to the next across
     /// an edge it falls by one at most.
@@ -263,7 +306,7 @@ impl Solver<'_> {
     /// in the plane of `t`, the foot beyond the edge), leaves the surface within `steps`
     /// faces back from the edge: [`SHADOW_STEPS`], or [`LONG_WALK`] as far as the budget of
     /// long walks allows (once it is spent, [`SHADOW_STEPS`] near a boundary and none
-    /// elsewhere); a ray that leaves no farther than `run_on` allows from its foot is kept.
+    /// elsewhere); a ray that leaves no farther than `slack` allows from its foot is kept.
     #[inline(never)]
     pub(super) fn through_a_gap(
         &self,
@@ -271,7 +314,7 @@ impl Solver<'_> {
         crossing: &Point3,
         (t, a, b): (usize, usize, usize),
         steps: usize,
-        run_on: ExitSlack,
+        slack: ExitSlack,
     ) -> bool {
         if steps > SHADOW_STEPS {
             // As far as the budget left allows (a walk cut short lets the ray through, as the
@@ -281,7 +324,7 @@ impl Solver<'_> {
             if steps > SHADOW_STEPS {
                 let mut walked = 0;
                 let through =
-                    self.walk_back(foot, crossing, (t, a, b), steps, &mut walked, true, run_on);
+                    self.walk_back(foot, crossing, (t, a, b), steps, &mut walked, true, slack);
                 self.long_walks.set(left - walked);
                 return through;
             }
@@ -296,14 +339,14 @@ impl Solver<'_> {
             SHADOW_STEPS,
             &mut 0,
             false,
-            run_on,
+            slack,
         )
     }
 
     /// [`Self::through_a_gap`] within `steps` faces, counting the faces crossed in `walked`;
     /// with `holes_only`, a ray that leaves farther back than [`SHADOW_STEPS`] faces through
     /// an edge not on the rim of a hole (past a notch of an outer border it runs beside) is
-    /// let through; so is one that leaves no farther than `run_on` allows from its foot (see
+    /// let through; so is one that leaves no farther than `slack` allows from its foot (see
     /// `Solver::exit_slack`; none for a point source on a rim).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
@@ -315,7 +358,7 @@ impl Solver<'_> {
         steps: usize,
         walked: &mut usize,
         holes_only: bool,
-        run_on: ExitSlack,
+        slack: ExitSlack,
     ) -> bool {
         let surface = self.surface;
         let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
@@ -349,13 +392,13 @@ impl Solver<'_> {
                 // unless from no farther than a source curve runs on beyond its ends (a
                 // piece of a border, run on along its line, lies off the surface where the
                 // border turns away).
-                let slack = if self.hole_rim.get(a) == Some(&true) && self.hole_rim[b] {
-                    run_on.hole
+                let allowed = if self.hole_rim.get(a) == Some(&true) && self.hole_rim[b] {
+                    slack.hole
                 } else {
-                    run_on.border
+                    slack.border
                 };
                 let off = (f - c).norm();
-                if off > slack {
+                if off > allowed {
                     return true;
                 }
                 // Within the slack, a point source's ray is refused where it cut across a
@@ -363,12 +406,11 @@ impl Solver<'_> {
                 // not at an end of the edge) and going round the nearer end is longer by
                 // more than the detour allowed. Only a few rings back: the unfolded foot
                 // drifts off its vertex along a long walk.
-                if run_on.detour < Real::INFINITY && *walked <= DETOUR_WALK {
+                if slack.detour < Real::INFINITY && *walked <= DETOUR_WALK {
                     let (pa, pb) = (pos[a], pos[b]);
                     let (fa, fb) = ((f - pa).norm(), (f - pb).norm());
                     let round = (fa + (pa - c).norm()).min(fb + (pb - c).norm());
-                    return fa.min(fb) > OWN_EDGE * surface.mean_edge
-                        && round - off > run_on.detour;
+                    return fa.min(fb) > OWN_EDGE * surface.mean_edge && round - off > slack.detour;
                 }
                 return false;
             };
