@@ -226,6 +226,35 @@ fn boundary_loop_source_measures_from_one_end() {
     }
 }
 
+/// A loop index beyond the boundary's loops is refused with the valid range, in words that
+/// fit the count (a cylinder has two loops, a plate one).
+#[test]
+fn a_missing_boundary_loop_is_refused_with_the_loops_there_are() {
+    let params = DistanceParams {
+        method: Method::Fast,
+        ..DistanceParams::default()
+    };
+    let refusal = |s: &Shape, i: usize| {
+        let source = GeodesicSource::Boundary {
+            loop_index: Some(i),
+        };
+        geodesic_distance(&s.mesh, &s.adjacency, &source, &params, &mut |_, _| {})
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    };
+    let e = refusal(&cylinder(16, 4), 2);
+    assert!(
+        e.contains("loop 2 does not exist: the boundary has 2 loops, 0 to 1"),
+        "{e}"
+    );
+    let e = refusal(&height_field(10.0), 1);
+    assert!(
+        e.contains("loop 1 does not exist: the boundary has 1 loop, loop 0"),
+        "{e}"
+    );
+}
+
 #[test]
 fn tool_path_links_the_passes() {
     let s = cylinder(80, 30);

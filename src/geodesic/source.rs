@@ -313,10 +313,14 @@ pub(crate) fn resolve(
             let chosen: Vec<&BoundaryLoop> = match loop_index {
                 None => loops.iter().collect(),
                 Some(i) => vec![loops.get(*i).ok_or_else(|| {
-                    GeodesicError::BadSource(format!(
-                        "loop {i} does not exist (the boundary has {} loops)",
-                        loops.len()
-                    ))
+                    GeodesicError::BadSource(match loops.len() {
+                        1 => format!("loop {i} does not exist: the boundary has 1 loop, loop 0"),
+                        n => format!(
+                            "loop {i} does not exist: the boundary has {n} loops, 0 to {} \
+                             (longest first)",
+                            n - 1
+                        ),
+                    })
                 })?],
             };
             for lp in chosen {

@@ -112,16 +112,23 @@ fn flat_f64<'a>(v: impl IntoIterator<Item = &'a [f64]>) -> Float64Array {
 
 /// Unit surface normal from four laser sensors: beam `origins` and unit `directions` (4 × xyz
 /// each, in cyclic order around the head) and the 4 `readings`; points back towards the
-/// sensors. Throws an `Error` naming degenerate or invalid input.
+/// sensors. Each a `Float64Array`, a `Float32Array` or an array of numbers; anything else (a
+/// string, `null` entries, NaN) and degenerate input throw an `Error` naming it.
 #[wasm_bindgen(js_name = normalFromLasers, unchecked_return_type = "[number, number, number]")]
 pub fn normal_from_lasers(
-    origins: &[f64],
-    directions: &[f64],
-    readings: &[f64],
+    #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] origins: JsValue,
+    #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] directions: JsValue,
+    #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] readings: JsValue,
 ) -> Result<JsValue, JsError> {
-    let o = four(origins, "origins")?;
-    let d = four(directions, "directions")?.map(|p| p.coords);
-    let r: [f64; 4] = readings.try_into().map_err(|_| {
+    // Read as numbers, not coerced: an array's `null` would be 0 and a string's digits numbers.
+    let o = four(&read_number_list(&origins, "origins", 3)?, "origins")?;
+    let d = four(
+        &read_number_list(&directions, "directions", 3)?,
+        "directions",
+    )?
+    .map(|p| p.coords);
+    let readings = read_number_list(&readings, "readings", 1)?;
+    let r: [f64; 4] = readings.as_slice().try_into().map_err(|_| {
         JsError::new(&format!(
             "readings must hold 4 numbers, got {}",
             readings.len()
@@ -298,23 +305,36 @@ impl Mesh {
     }
 
     /// Simulated laser readings: distance along each unit beam (flat xyz `origins` and
-    /// `directions`, any count) to the first triangle hit, NaN where a beam misses.
+    /// `directions`, any count; each a `Float64Array`, a `Float32Array` or an array of
+    /// numbers) to the first triangle hit, NaN where a beam misses.
     #[wasm_bindgen(js_name = laserReadings)]
-    pub fn laser_readings(&self, origins: &[f64], directions: &[f64]) -> Result<Vec<f64>, JsError> {
-        let o = points(origins, "origins")?;
-        let d: Vec<Vector3> = points(directions, "directions")?
-            .iter()
-            .map(|p| p.coords)
-            .collect();
+    pub fn laser_readings(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] origins: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] directions: JsValue,
+    ) -> Result<Vec<f64>, JsError> {
+        let o = points(&read_number_list(&origins, "origins", 3)?, "origins")?;
+        let d: Vec<Vector3> = points(
+            &read_number_list(&directions, "directions", 3)?,
+            "directions",
+        )?
+        .iter()
+        .map(|p| p.coords)
+        .collect();
         Ok(drill::laser_readings(&self.drill_index(), &o, &d)?)
     }
 
-    /// Closest points of the mesh to flat xyz `points`: `{ points, normals, distances }`
-    /// (normals interpolated from the vertex normals, in the mesh's winding).
+    /// Closest points of the mesh to flat xyz `points` (a `Float64Array`, a `Float32Array` or
+    /// an array of numbers): `{ points, normals, distances }` (normals interpolated from the
+    /// vertex normals, in the mesh's winding).
     #[wasm_bindgen(js_name = closestPoints, unchecked_return_type = "ClosestPoints")]
-    pub fn closest_points(&self, points: &[f64]) -> Result<JsValue, JsError> {
+    pub fn closest_points(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | number[]")] points: JsValue,
+    ) -> Result<JsValue, JsError> {
+        let points = read_number_list(&points, "points", 3)?;
         let index = self.drill_index();
-        let found = self::points(points, "points")?
+        let found = self::points(&points, "points")?
             .iter()
             .enumerate()
             .map(|(i, p)| {

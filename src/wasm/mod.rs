@@ -130,14 +130,20 @@ const MAX_RESERVE_BYTES: f64 = 4_294_967_296.0;
 /// (www/worker/warm-up.js), so that the distance does not wait on it. Returns false, and
 /// changes nothing, when that much memory cannot be had.
 #[wasm_bindgen(js_name = reserveMemory)]
-pub fn reserve_memory(bytes: f64) -> Result<bool, JsError> {
-    if !(bytes.is_finite() && (0.0..=MAX_RESERVE_BYTES).contains(&bytes)) {
-        return Err(JsError::new(&format!(
-            "reserveMemory: bytes must be a number from 0 to {} (4 GiB), got {}",
-            crate::math::Compact(MAX_RESERVE_BYTES),
-            crate::math::Compact(bytes)
-        )));
-    }
+pub fn reserve_memory(
+    #[wasm_bindgen(unchecked_param_type = "number")] bytes: JsValue,
+) -> Result<bool, JsError> {
+    // A number only: a string of digits or `true` is not turned into one.
+    let bytes = match bytes.as_f64() {
+        Some(b) if b.is_finite() && (0.0..=MAX_RESERVE_BYTES).contains(&b) => b,
+        _ => {
+            return Err(JsError::new(&format!(
+                "reserveMemory: bytes must be a number from 0 to {} (4 GiB), got {}",
+                crate::math::Compact(MAX_RESERVE_BYTES),
+                params::describe(&bytes)
+            )))
+        }
+    };
     let mut block: Vec<u8> = Vec::new();
     if block.try_reserve_exact(bytes as usize).is_err() {
         return Ok(false);

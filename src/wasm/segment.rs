@@ -99,6 +99,29 @@ impl Segmentation {
         )?;
         Ok(Segmentation { mesh, index, inner })
     }
+
+    /// "no patch `id`" and the ids there are.
+    fn no_patch(&self, id: &dyn std::fmt::Display) -> JsError {
+        let ids = match self.inner.patches.len() {
+            0 => "this segmentation has no patches".to_string(),
+            1 => "this segmentation has 1 patch, id 0".to_string(),
+            n => format!("this segmentation has {n} patches, ids 0 to {}", n - 1),
+        };
+        JsError::new(&format!("no patch {id}: {ids}"))
+    }
+
+    /// A patch id given from JavaScript: a whole number from 0 to `patchCount − 1`; anything
+    /// else is refused, naming it (a whole number out of range with the ids there are).
+    fn patch_id(&self, id: &JsValue) -> Result<usize, JsError> {
+        let count = self.inner.patches.len();
+        match id.as_f64() {
+            Some(x) if x.fract() == 0.0 && !(0.0..count as f64).contains(&x) => {
+                Err(self.no_patch(&Compact(x)))
+            }
+            _ if count == 0 => Err(self.no_patch(&describe(id))),
+            _ => Ok(integer(id, "patch id", 0, count as i64 - 1)? as usize),
+        }
+    }
 }
 
 #[wasm_bindgen]
@@ -175,28 +198,10 @@ impl Segmentation {
         &self,
         #[wasm_bindgen(unchecked_param_type = "number")] id: JsValue,
     ) -> Result<Vec<u8>, JsError> {
-        let count = self.inner.patches.len();
-        let no_patch = |id: &dyn std::fmt::Display| {
-            let ids = match count {
-                0 => "this segmentation has no patches".to_string(),
-                1 => "this segmentation has 1 patch, id 0".to_string(),
-                n => format!("this segmentation has {n} patches, ids 0 to {}", n - 1),
-            };
-            JsError::new(&format!("no patch {id}: {ids}"))
-        };
-        match id.as_f64() {
-            // A whole number out of range: say which ids exist.
-            Some(x) if x.fract() == 0.0 && !(0.0..count as f64).contains(&x) => {
-                Err(no_patch(&Compact(x)))
-            }
-            _ if count == 0 => Err(no_patch(&describe(&id))),
-            _ => {
-                let id = integer(&id, "patch id", 0, count as i64 - 1)? as usize;
-                self.inner
-                    .patch_stl(&self.mesh.mesh, id)
-                    .ok_or_else(|| no_patch(&id))
-            }
-        }
+        let id = self.patch_id(&id)?;
+        self.inner
+            .patch_stl(&self.mesh.mesh, id)
+            .ok_or_else(|| self.no_patch(&id))
     }
 
     /// Picking: the first triangle hit by the ray `origin + t·direction`, t ≥ 0, whose patch
@@ -242,15 +247,14 @@ impl Segmentation {
         }
     }
 
-    /// Triangle ids of patch `id`, in increasing order. Throws if there is no such patch.
+    /// Triangle ids of patch `id`, in increasing order; `id` as in `patchStl` (anything but a
+    /// patch's id throws an `Error` naming it).
     #[wasm_bindgen(js_name = patchFaces)]
-    pub fn patch_faces(&self, id: u32) -> Result<Vec<u32>, JsError> {
-        if id as usize >= self.inner.patches.len() {
-            return Err(JsError::new(&format!(
-                "no patch {id}: this segmentation has {} patches",
-                self.inner.patches.len()
-            )));
-        }
-        Ok(self.inner.faces_of(id as usize).map(|f| f as u32).collect())
+    pub fn patch_faces(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "number")] id: JsValue,
+    ) -> Result<Vec<u32>, JsError> {
+        let id = self.patch_id(&id)?;
+        Ok(self.inner.faces_of(id).map(|f| f as u32).collect())
     }
 }

@@ -77,8 +77,17 @@ test('normalFromLasers: a square head over a plane, and refusals as Errors', () 
   assert.deepEqual(n.map((x) => x + 0), [0, 0, 1]);
   const line = new Float64Array([0, 0, 10, 1, 0, 10, 2, 0, 10, 3, 0, 10]);
   assert.throws(() => normalFromLasers(line, down, new Float64Array([10, 10, 10, 10])), (e) => e instanceof Error && /collinear/.test(e.message));
-  assert.throws(() => normalFromLasers(origins, down, new Float64Array([10, NaN, 10, 10])), /reading of beam 2/);
+  assert.throws(() => normalFromLasers(origins, down, new Float64Array([10, NaN, 10, 10])), /^Error: readings\[1\] must be a finite number, got NaN$/);
   assert.throws(() => normalFromLasers(origins, down, new Float64Array([10, 10, 10])), /readings must hold 4/);
+  // Arrays of numbers are read as they are; nothing else is turned into numbers (null was
+  // read as 0, '10' as 10, and the string '1111' as four readings of 1).
+  assert.deepEqual(normalFromLasers(Array.from(origins), Array.from(down), [10, 10, 10, 10]).map((x) => x + 0), [0, 0, 1]);
+  assert.throws(() => normalFromLasers(origins, down, [10, null, 10, 10]), /^Error: readings\[1\] must be a number, got null$/);
+  assert.throws(() => normalFromLasers(origins, down, [10, '10', 10, 10]), /^Error: readings\[1\] must be a number, got the string "10"$/);
+  assert.throws(() => normalFromLasers(origins, down, '1111'), /^Error: readings must be a Float64Array or an array of numbers, got the string "1111"$/);
+  const tilted = Array.from(origins);
+  tilted[11] = true;
+  assert.throws(() => normalFromLasers(tilted, down, [10, 10, 10, 10]), /^Error: origins\[11\] must be a number, got true$/);
 });
 
 test('laser readings and closest points on a cylinder panel', () => {
@@ -93,6 +102,11 @@ test('laser readings and closest points on a cylinder panel', () => {
     for (const k of [0, 1, 2]) assert.ok(Math.abs(r[k] - 50) < 0.02, `reading ${r[k]}`);
     assert.ok(Number.isNaN(r[3]));
     assert.throws(() => mesh.laserReadings(origins, new Float64Array(12)), /direction of beam 1 must be a unit vector/);
+    assert.throws(() => mesh.laserReadings(origins, Array.from(directions, (x, i) => (i === 4 ? null : x))), /^Error: directions\[4\] must be a number, got null$/);
+    assert.throws(() => mesh.closestPoints([0, 0, 'x']), /^Error: points\[2\] must be a number, got the string "x"$/);
+    assert.throws(() => mesh.closestPoints([0, 0, NaN]), /^Error: points\[2\] must be a finite number, got NaN$/);
+    assert.deepEqual(Array.from(mesh.laserReadings(Array.from(origins), Array.from(directions)), (x) => Number.isNaN(x) ? 'miss' : Math.round(x)),
+      [50, 50, 50, 'miss'], 'arrays of numbers are read as typed arrays are');
     const c = mesh.closestPoints(origins.slice(0, 9));
     assert.equal(c.points.length, 9);
     for (const k of [0, 1, 2]) {

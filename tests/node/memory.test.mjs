@@ -35,7 +35,7 @@ test('the memory reserved as the Paths tool asks covers its first distance on th
 });
 
 test('reserveMemory refuses what is not a byte count, and the engine keeps working', () => {
-  for (const bad of [NaN, -1, Infinity, 5e9, 'a lot']) {
+  for (const bad of [NaN, -1, Infinity, 5e9, 'a lot', '1000', true, null]) {
     assert.throws(() => reserveMemory(bad), (e) => e instanceof Error && /reserveMemory: bytes must be a number from 0 to/.test(e.message),
       `reserveMemory(${String(bad)})`);
   }

@@ -153,27 +153,34 @@ test('wrong-typed, missing, unknown and huge fields are named with their path', 
   mesh.free();
 });
 
-test('patchStl refuses every id that is not a whole number in range, naming it', () => {
+test('patchStl and patchFaces refuse every id that is not a whole number in range, naming it', () => {
   const mesh = Mesh.fromStl(cube);
   const seg = mesh.segment(paper);
-  const notWhole = /^patch id must be a whole number from 0 to 5, got /;
-  const cases = [
-    [NaN, /got NaN$/], [0.5, /got 0\.5$/], ['abc', /got the string "abc"$/], ['0', /got the string "0"$/],
-    [undefined, /got undefined$/], [null, /got null$/], [Infinity, /got Infinity$/], [[0], /got an array$/],
-  ];
-  for (const [id, tail] of cases) {
-    const message = refuses(() => seg.patchStl(id), notWhole);
-    assert.match(message, tail);
-  }
-  refuses(() => seg.patchStl(2 ** 32), /^no patch 4294967296: this segmentation has 6 patches, ids 0 to 5$/);
-  refuses(() => seg.patchStl(-1), /^no patch -1: this segmentation has 6 patches, ids 0 to 5$/);
-  refuses(() => seg.patchStl(6), /^no patch 6: this segmentation has 6 patches, ids 0 to 5$/);
-  refuses(() => seg.patchStl(1e300), /^no patch 1e300: /);
-  for (let id = 0; id < 6; id++) assert.equal(seg.patchStl(id).length, 84 + 50 * 2);
   const none = mesh.segment({ ...paper, minAreaRatio: 0.99 });
   assert.equal(none.patchCount, 0);
-  refuses(() => none.patchStl(0), /^no patch 0: this segmentation has no patches$/);
-  refuses(() => none.patchStl('x'), /^no patch the string "x": this segmentation has no patches$/);
+  // patchFaces took a u32 once: -1, 0.5, NaN and '1' were turned into ids without a word.
+  for (const method of ['patchStl', 'patchFaces']) {
+    const call = (s, id) => s[method](id);
+    const notWhole = /^patch id must be a whole number from 0 to 5, got /;
+    const cases = [
+      [NaN, /got NaN$/], [0.5, /got 0\.5$/], ['abc', /got the string "abc"$/], ['0', /got the string "0"$/],
+      [undefined, /got undefined$/], [null, /got null$/], [Infinity, /got Infinity$/], [[0], /got an array$/],
+    ];
+    for (const [id, tail] of cases) {
+      const message = refuses(() => call(seg, id), notWhole);
+      assert.match(message, tail);
+    }
+    refuses(() => call(seg, 2 ** 32), /^no patch 4294967296: this segmentation has 6 patches, ids 0 to 5$/);
+    refuses(() => call(seg, -1), /^no patch -1: this segmentation has 6 patches, ids 0 to 5$/);
+    refuses(() => call(seg, 6), /^no patch 6: this segmentation has 6 patches, ids 0 to 5$/);
+    refuses(() => call(seg, 1e300), /^no patch 1e300: /);
+    refuses(() => call(none, 0), /^no patch 0: this segmentation has no patches$/);
+    refuses(() => call(none, 'x'), /^no patch the string "x": this segmentation has no patches$/);
+  }
+  for (let id = 0; id < 6; id++) {
+    assert.equal(seg.patchStl(id).length, 84 + 50 * 2);
+    assert.equal(seg.patchFaces(id).length, 2);
+  }
   none.free();
   seg.free();
   mesh.free();
