@@ -41,6 +41,12 @@ const AGAIN = {
   Mesh: 'load the file again', Segmentation: 'segment the mesh again',
   DistanceField: 'compute the distance again', ToolPath: 'build the tool path again',
 };
+/** How each class without a constructor is made (`new Mesh()` gives an empty object). */
+const MADE_BY = {
+  Mesh: 'Mesh.fromStl(bytes) or new StlReader(size).finish()', Segmentation: 'mesh.segment(params)',
+  SprayPlan: 'mesh.planSpray(params, faces)', DistanceField: 'mesh.geodesicDistance(source, options)',
+  ToolPath: 'field.toolPath(spacing, options)',
+};
 
 /**
  * Appends to the wasm-bindgen glue a guard for every exported class, so that
@@ -62,7 +68,12 @@ function guardGlue(file) {
   if (classes.length === 0 || !glue.includes('this.__wbg_ptr') || !/^\s+free\(\) \{/m.test(glue)) {
     fail(`${file} does not look like wasm-bindgen 0.2 glue (exported classes with __wbg_ptr and free()); update guardGlue in scripts/build.mjs`);
   }
-  const calls = classes.map((c) => `guardFreed(${c}, ${JSON.stringify(c)}, ${JSON.stringify(AGAIN[c] ?? `create a new ${c}`)});`);
+  const constructed = new Set([...glue.matchAll(/^export class (\w+) \{[\s\S]*?^\}/gm)]
+    .filter((m) => /^ {4}constructor\(/m.test(m[0])).map((m) => m[1]));
+  for (const c of classes) {
+    if (!constructed.has(c) && !MADE_BY[c]) fail(`${file}: class ${c} has no constructor and no entry in MADE_BY (scripts/build.mjs)`);
+  }
+  const calls = classes.map((c) => `guardFreed(${c}, ${JSON.stringify(c)}, ${JSON.stringify(AGAIN[c] ?? `create a new ${c}`)}, ${JSON.stringify(constructed.has(c) ? null : MADE_BY[c])});`);
   // Exported functions are function declarations: reassigning one updates the live export.
   const functions = [...glue.matchAll(/^export function (\w+)\(/gm)].map((m) => m[1]);
   if (functions.length === 0) fail(`${file} exports no function; update guardGlue in scripts/build.mjs`);
@@ -95,12 +106,16 @@ function checkedArity(f, what) {
     return f.apply(this, args);
   }, f);
 }
-function guardFreed(cls, name, again) {
+function guardFreed(cls, name, again, madeBy) {
   const proto = cls.prototype;
   const running = new WeakMap();
   const freeLater = new WeakSet();
   const rawFree = proto.free;
-  const freed = () => new Error(\`this \${name} was freed (free() was called); \${again}\`);
+  // free() sets the pointer to 0; an object made with \`new\` of a class the engine makes
+  // itself never had one.
+  const freed = (self) => new Error(madeBy && self.__wbg_ptr === undefined
+    ? \`this \${name} was made with new \${name}(), which gives an empty object: use \${madeBy}\`
+    : \`this \${name} was freed (free() was called); \${again}\`);
   const enter = (what) => {
     if (nesting >= MAX_NESTING) {
       throw new Error(\`\${name}.\${what}() was called from an onProgress callback \${nesting} calls deep; call it after the outer call returns\`);
@@ -117,7 +132,7 @@ function guardFreed(cls, name, again) {
     }
   }, f);
   const guard = (f, what) => like(function (...args) {
-    if (!this.__wbg_ptr || freeLater.has(this)) throw freed();
+    if (!this.__wbg_ptr || freeLater.has(this)) throw freed(this);
     checkArgs(f, \`\${name}.\${what}\`, args);
     enter(what);
     running.set(this, (running.get(this) ?? 0) + 1);

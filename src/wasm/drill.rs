@@ -6,7 +6,7 @@
 //! `Mesh` (`Option<&Mesh>`); taking `Option<Mesh>` would consume the caller's handle. The
 //! glue refuses `correctHoles(params, mesh)` and points to `mesh.correctHoles(params)`.
 
-use super::params::{read_number_list, set, ParamReader};
+use super::params::{describe, read_number_list, set, ParamReader};
 use super::Mesh;
 use crate::drill::{self, CorrectionParams, MeshIndex, Method, ReferenceHole};
 use crate::math::{Point3, Vector3};
@@ -196,8 +196,17 @@ export interface DrillPaperExample {
 /// Reads a hole list from `id,x,y,z` text (header optional; see `drill::parse_holes_csv`):
 /// `{ ids, positions, lines, errors: [{ line, message }], header }`. Never throws on content.
 #[wasm_bindgen(js_name = parseHolesCsv, unchecked_return_type = "HoleList")]
-pub fn parse_holes_csv(text: &str) -> Result<JsValue, JsError> {
-    let list = drill::parse_holes_csv(text);
+pub fn parse_holes_csv(
+    #[wasm_bindgen(unchecked_param_type = "string")] text: JsValue,
+) -> Result<JsValue, JsError> {
+    // A string only: anything else made the generated glue write out of bounds (a trap).
+    let Some(text) = text.as_string() else {
+        return Err(JsError::new(&format!(
+            "parseHolesCsv: text must be a string, got {}",
+            describe(&text)
+        )));
+    };
+    let list = drill::parse_holes_csv(&text);
     let out = Object::new();
     let ids: Array = list
         .holes
@@ -271,25 +280,33 @@ impl Mesh {
         &self,
         #[wasm_bindgen(unchecked_param_type = "CorrectionParams")] params: JsValue,
         #[wasm_bindgen(unchecked_param_type = "DrillPoseParams | undefined")] pose: JsValue,
-        format: &str,
+        #[wasm_bindgen(unchecked_param_type = "string")] format: JsValue,
         #[wasm_bindgen(unchecked_param_type = "ExportOptions | undefined")] options: JsValue,
     ) -> Result<Vec<String>, JsError> {
         // All JavaScript input is read (through imports that catch exceptions) before any work.
         let params = correction_params_from_js(&params)?;
         let pose = pose_params_from_js(&pose)?;
         let options = super::toolpath::export_options_from_js(&options)?;
+        const FORMATS: [&str; 4] = ["csv", "json", "rapid", "krl"];
+        let Some(format) = format
+            .as_string()
+            .and_then(|f| FORMATS.into_iter().find(|&k| k == f))
+        else {
+            let given = match format.as_string() {
+                Some(f) if f.chars().count() <= 40 => format!("{f:?}"),
+                _ => describe(&format),
+            };
+            return Err(JsError::new(&format!(
+                "unknown export format {given} (allowed: csv, json, rapid, krl)"
+            )));
+        };
         let correction = drill::correct_holes(&params, Some(&self.drill_index()))?;
         let path = drill::drilling_path(&correction, &pose, Vec::new())?;
         Ok(match format {
             "csv" => vec![to_csv(&path, &options)?],
             "json" => vec![to_json(&path, &options)?],
             "rapid" => to_rapid(&path, &options)?,
-            "krl" => to_krl(&path, &options)?,
-            other => {
-                return Err(JsError::new(&format!(
-                    "unknown export format {other:?} (allowed: csv, json, rapid, krl)"
-                )))
-            }
+            _ => to_krl(&path, &options)?,
         })
     }
 

@@ -178,6 +178,13 @@ test('parseHolesCsv keeps the good rows and reports bad ones by line', () => {
   assert.equal(list.header, true);
   assert.deepEqual(list.errors.map((e) => e.line), [4, 5]);
   assert.match(list.errors[0].message, /y = "five" is not a finite number/);
+  // Anything but a string is named (a number made the generated glue write out of bounds: a
+  // trap), and the engine keeps working.
+  for (const [bad, shown] of [[42, 'the number 42'], [null, 'null'], [undefined, 'undefined'], [['a,1,2,3'], 'an array'], [true, 'true']]) {
+    assert.throws(() => wasm.parseHolesCsv(bad),
+      (e) => e instanceof Error && !(e instanceof WebAssembly.RuntimeError) && e.message === `parseHolesCsv: text must be a string, got ${shown}`);
+  }
+  assert.deepEqual(wasm.parseHolesCsv('H9,1,2,3').ids, ['H9']);
 });
 
 test('drillPaperExample gives the panel, the references and the truth; drillingProgram writes it', () => {
@@ -200,6 +207,11 @@ test('drillPaperExample gives the panel, the references and the truth; drillingP
     const [csv] = mesh.drillingProgram(params, undefined, 'csv', undefined);
     assert.equal(csv.trim().split('\n').length, 1 + 48);
     assert.throws(() => mesh.drillingProgram(params, undefined, 'gcode', undefined), /unknown export format "gcode"/);
+    // Not a string: named, not a trap of the generated glue (it wrote out of bounds).
+    for (const [bad, shown] of [[42, 'the number 42'], [null, 'null'], [{}, 'an object']]) {
+      assert.throws(() => mesh.drillingProgram(params, undefined, bad, undefined),
+        (e) => e instanceof Error && !(e instanceof WebAssembly.RuntimeError) && e.message === `unknown export format ${shown} (allowed: csv, json, rapid, krl)`);
+    }
     assert.throws(() => mesh.drillingProgram(params, { approach: -1 }, 'csv', undefined), /approach/);
     assert.throws(() => mesh.drillingProgram(params, { approch: 1 }, 'csv', undefined), /approch/);
   } finally {

@@ -262,6 +262,22 @@ test('use after free() says which object was freed, for every class and member',
   stillWorks();
 });
 
+test('an object made with new of a class the engine makes says how to make one', () => {
+  const made = [[Mesh, /^this Mesh was made with new Mesh\(\), which gives an empty object: use Mesh\.fromStl\(bytes\)/],
+    [Segmentation, /^this Segmentation was made with new Segmentation\(\), which gives an empty object: use mesh\.segment\(params\)$/],
+    [DistanceField, /use mesh\.geodesicDistance\(source, options\)$/], [ToolPath, /use field\.toolPath\(spacing, options\)$/]];
+  for (const [cls, message] of made) {
+    const empty = new cls();
+    const members = Object.getOwnPropertyNames(cls.prototype).filter((k) => k !== 'constructor' && k !== 'free' && !k.startsWith('__'));
+    for (const key of members) {
+      const d = Object.getOwnPropertyDescriptor(cls.prototype, key);
+      refuses(() => (d.get ? empty[key] : empty[key](paper, undefined)), message);
+    }
+    empty.free(); // nothing to free
+  }
+  stillWorks();
+});
+
 test('a progress callback that throws or re-enters does not break the call or the mesh', () => {
   let calls = 0;
   const thrower = () => {
