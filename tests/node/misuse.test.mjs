@@ -477,3 +477,56 @@ test('an argument too many is refused by name for every export, never dropped', 
   for (const o of [plan, path, field, seg, mesh]) o.free();
   stillWorks();
 });
+
+test('every export with a wrong value in any one argument returns or throws an Error, never traps', () => {
+  // A wrong type where a string was taken made the generated glue write out of bounds (a
+  // RuntimeError, parseHolesCsv(42)); this calls every exported function, method and static
+  // method with each of these in each argument it declares, the others undefined.
+  const wrong = [42, -1, 0.5, NaN, null, undefined, 'x', '1', {}, [], [1, 'a'], true, 2 ** 40, new Uint8Array(3), 10n];
+  const mesh = Mesh.fromStl(cube);
+  const seg = mesh.segment(paper);
+  const plan = mesh.planSpray({ spacing: 0.5, standoff: 1, speed: 1, flowRate: 1e-3, coneAngle: 0.5, transitionAngle: 0.3,
+    efficiency: 0.6, optimiseSpeed: false }, seg.patchFaces(0));
+  const field = mesh.geodesicDistance({ vertices: [0] });
+  const path = field.toolPath(field.maxDistance / 3);
+  const targets = [];
+  for (const [name, f] of Object.entries(wasm)) {
+    if (typeof f !== 'function' || name === 'initSync' || name === 'default') continue;
+    if (/^[A-Z]/.test(name)) {
+      for (const key of Object.getOwnPropertyNames(f)) {
+        if (typeof f[key] === 'function' && !key.startsWith('__')) targets.push([`${name}.${key}`, f[key].length, (...a) => f[key](...a)]);
+      }
+    } else {
+      targets.push([name, f.length, f]);
+    }
+  }
+  for (const [label, object] of [['mesh', mesh], ['seg', seg], ['plan', plan], ['field', field], ['path', path]]) {
+    const proto = Object.getPrototypeOf(object);
+    for (const key of Object.getOwnPropertyNames(proto)) {
+      const d = Object.getOwnPropertyDescriptor(proto, key);
+      if (key === 'constructor' || key === 'free' || key.startsWith('__') || typeof d.value !== 'function') continue;
+      targets.push([`${label}.${key}`, d.value.length, (...a) => object[key](...a)]);
+    }
+  }
+  assert.ok(targets.length > 50, `${targets.length} exports probed`);
+  let calls = 0;
+  for (const [label, arity, call] of targets) {
+    for (let at = 0; at < Math.max(arity, 1); at++) {
+      for (const value of wrong) {
+        const args = new Array(Math.max(arity, 1)).fill(undefined);
+        args[at] = value;
+        calls++;
+        try {
+          const out = call(...args);
+          if (out && typeof out.free === 'function') out.free();
+        } catch (e) {
+          assert.ok(e instanceof Error && !(e instanceof WebAssembly.RuntimeError), `${label}: argument ${at} = ${String(value)} threw ${e?.constructor?.name}: ${e?.message ?? e}`);
+          assert.doesNotMatch(e.message, BROKEN, `${label}: argument ${at} = ${String(value)}`);
+        }
+      }
+    }
+  }
+  assert.ok(calls > 1000, `${calls} calls`);
+  for (const object of [path, field, plan, seg, mesh]) object.free();
+  stillWorks();
+});
