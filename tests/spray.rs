@@ -1108,6 +1108,65 @@ fn bad_face_lists_are_refused() {
     assert!(run(&[0, 18]).to_string().contains("18"));
 }
 
+/// A resolution or time step far too fine is refused with a count that does not overflow
+/// into nonsense and a suggestion that, taken, is accepted; every number is short.
+#[test]
+fn too_fine_a_resolution_or_time_step_suggests_one_that_works() {
+    let m = plate(300.0, 300.0, 3, 3);
+    for tiny in [1e-300, 1e-3] {
+        let mut p = params(60.0);
+        p.resolution = Some(tiny);
+        let err = plan(&m, &p).unwrap_err();
+        let SprayError::TooManySamples { suggestion, .. } = err else {
+            panic!("{err}")
+        };
+        let text = err.to_string();
+        assert!(text.len() < 200, "{text}");
+        assert!(
+            !text.contains("inf") && !text.contains("18446744073709551615"),
+            "{text}"
+        );
+        if tiny == 1e-300 {
+            assert!(
+                text.contains("more than 1e308 evaluation samples"),
+                "{text}"
+            );
+        }
+        p.resolution = Some(suggestion);
+        plan(&m, &p).unwrap_or_else(|e| panic!("the suggested resolution {suggestion}: {e}"));
+        // The suggestion is the finest that fits, within the bisection's 0.1 %.
+        p.resolution = Some(0.99 * suggestion);
+        assert!(matches!(
+            plan(&m, &p),
+            Err(SprayError::TooManySamples { .. })
+        ));
+    }
+    for tiny in [1e-300, 1e-9] {
+        let mut p = params(60.0);
+        p.time_step = Some(tiny);
+        let err = plan(&m, &p).unwrap_err();
+        let SprayError::TooManyTimeSamples {
+            suggestion, length, ..
+        } = err
+        else {
+            panic!("{err}")
+        };
+        let text = err.to_string();
+        assert!(text.len() < 260, "{text}");
+        assert!(length > 300.0 && length.is_finite(), "{text}");
+        p.time_step = Some(suggestion);
+        plan(&m, &p).unwrap_or_else(|e| panic!("the suggested time step {suggestion}: {e}"));
+    }
+    // Parameters far out of scale are echoed short, as JavaScript spells them.
+    let mut p = params(1e300);
+    p.direction = Some([1.0, 0.0, 0.0]);
+    let text = plan(&m, &p).unwrap_err().to_string();
+    assert!(
+        text.starts_with("spacing 1e300 is larger than the patch"),
+        "{text}"
+    );
+}
+
 #[test]
 fn planes_that_miss_the_patch_are_reported() {
     // Two triangles far apart across the passes: one plane in the middle misses both.

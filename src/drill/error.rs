@@ -1,12 +1,12 @@
 //! Why a drilling computation refused its input.
 
-use crate::math::Real;
+use crate::math::{Compact, Real};
 
 /// Bad input to the drilling module; each message names the offending value.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DrillError {
     /// A number that must be finite is NaN or infinite.
-    #[error("{name} must be finite, got {value}")]
+    #[error("{name} must be finite, got {}", Compact(*.value))]
     NonFinite {
         /// What the value is (e.g. "reading of beam 2", "hole 5 x").
         name: String,
@@ -14,7 +14,7 @@ pub enum DrillError {
         value: Real,
     },
     /// A parameter is out of its allowed range.
-    #[error("{name} = {value} is invalid: {allowed}")]
+    #[error("{name} = {} is invalid: {allowed}", Compact(*.value))]
     BadParam {
         /// The parameter's name as the caller wrote it.
         name: &'static str,
@@ -24,7 +24,7 @@ pub enum DrillError {
         allowed: &'static str,
     },
     /// A laser beam direction is zero or not a unit vector.
-    #[error("direction of beam {beam} must be a unit vector, its length is {length}")]
+    #[error("direction of beam {beam} must be a unit vector, its length is {}", Compact(*.length))]
     BadBeamDirection {
         /// Beam number, 1-based.
         beam: usize,
@@ -32,7 +32,7 @@ pub enum DrillError {
         length: Real,
     },
     /// A laser reading is negative.
-    #[error("reading of beam {beam} must be ≥ 0, got {value}")]
+    #[error("reading of beam {beam} must be ≥ 0, got {}", Compact(*.value))]
     NegativeReading {
         /// Beam number, 1-based.
         beam: usize,

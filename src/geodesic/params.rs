@@ -1,12 +1,12 @@
 //! Parameters, errors and the progress callback shared by the geodesic module.
 
-use crate::math::Real;
+use crate::math::{Compact, Real};
 
 /// A geodesic input is invalid; every message names the parameter and what is allowed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum GeodesicError {
     /// A numeric parameter is NaN, infinite or out of range.
-    #[error("geodesic parameter {name} = {value} is invalid: {why}")]
+    #[error("geodesic parameter {name} = {} is invalid: {why}", Compact(*.value))]
     BadParam {
         /// Parameter name as the caller writes it.
         name: &'static str,
@@ -26,8 +26,10 @@ pub enum GeodesicError {
     BadFaces(String),
     /// The voxel size would need more memory than allowed.
     #[error(
-        "voxel size {voxel_size} is too small: about {estimated_voxels} voxels ({estimated_bytes} bytes) \
-         would exceed the memory limit of {limit_bytes} bytes; use a voxel size of at least {min_size:.4}"
+        "voxel size {} is too small: about {estimated_voxels} voxels ({estimated_bytes} bytes) \
+         would exceed the memory limit of {limit_bytes} bytes; use a voxel size of at least {}",
+        Compact(*.voxel_size),
+        Compact(*.min_size)
     )]
     VoxelTooSmall {
         /// The voxel edge requested.

@@ -12,7 +12,7 @@
 use super::iso_lines::contour_with_faces;
 use super::params::GeodesicError;
 use super::surface::{FaceGrid, Surface};
-use crate::math::{Point3, Real, Vector3};
+use crate::math::{Compact, Point3, Real, Vector3};
 use std::cell::OnceCell;
 
 /// Where the distance is measured from.
@@ -201,8 +201,10 @@ fn snap_polyline(
         match grid.closest(surface.mesh, p) {
             Some((q, f, d)) if d <= max_snap => Ok((q, f as u32)),
             Some((_, _, d)) => Err(GeodesicError::SourceMissesSurface(format!(
-                "{} is {d:.4} from the surface (max_snap_distance = {max_snap:.4})",
-                what()
+                "{} is {} from the surface (maxSnapDistance = {})",
+                what(),
+                Compact(d),
+                Compact(max_snap)
             ))),
             None => Err(GeodesicError::SourceMissesSurface("no active face".into())),
         }

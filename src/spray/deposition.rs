@@ -104,16 +104,18 @@ fn at_most(x: Real, hi: Real) -> Real {
     }
 }
 
-/// Number of time samples the trajectory takes at step `v·Δt`.
-pub fn time_sample_count(path: &ToolPath, step_length: Real) -> usize {
-    let mut count = 0usize;
+/// Number of time samples the trajectory takes at step `v·Δt` (a real number: a tiny step
+/// makes more than any integer type holds), and the length of its gun-on moves.
+pub fn time_sample_count(path: &ToolPath, step_length: Real) -> (Real, Real) {
+    let (mut count, mut total) = (0.0, 0.0);
     for pair in path.poses.windows(2) {
         if pair[1].kind.process_on() {
             let length = (pair[1].position - pair[0].position).norm();
-            count = count.saturating_add((length / step_length).ceil() as usize);
+            count += (length / step_length).ceil();
+            total += length;
         }
     }
-    count
+    (count, total)
 }
 
 /// Gauss–Legendre nodes on `[-1, 1]` (3 points: exact for polynomials of degree 5).
@@ -212,11 +214,14 @@ pub(super) fn check_time_samples(
     time_step: Real,
 ) -> Result<Real, SprayError> {
     let step_length = speed * time_step;
-    let count = time_sample_count(path, step_length);
-    if count > MAX_TIME_SAMPLES {
+    let (count, length) = time_sample_count(path, step_length);
+    if count.is_nan() || count > MAX_TIME_SAMPLES as Real {
         return Err(SprayError::TooManyTimeSamples {
             time_step,
+            length,
             samples: count,
+            // Each move's steps round up: a tenth more than the lengths alone ask.
+            suggestion: 1.1 * length / (MAX_TIME_SAMPLES as Real * speed),
         });
     }
     Ok(step_length)

@@ -5,7 +5,7 @@
 //! (`β_T`), step 7 (`E_m, δ_m`). The remaining parameters (extension, time step,
 //! resolution, edge exclusion, spacing bounds, target thickness) are this planner's own.
 
-use crate::math::{Real, Vector3};
+use crate::math::{Compact, Real, Vector3};
 
 /// Most evaluation samples a plan may create; a finer resolution is refused (memory: about
 /// 80 bytes a sample with its display triangles).
@@ -15,11 +15,25 @@ pub const MAX_TIME_SAMPLES: usize = 20_000_000;
 /// Most scan planes one plan may have (bounds the work of a tiny spacing).
 pub const MAX_PLANES: usize = 100_000;
 
+/// A count of samples as messages show it: the whole number ([`Compact`]), or "more than
+/// 1e308" where even a float overflows (a resolution or time step of 1e-300).
+struct Count(Real);
+
+impl std::fmt::Display for Count {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0.is_finite() {
+            write!(f, "about {}", Compact(self.0.round()))
+        } else {
+            f.write_str("more than 1e308")
+        }
+    }
+}
+
 /// Why spray planning was refused. Messages name the parameter as the JavaScript API spells it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SprayError {
     /// A number is NaN or infinite.
-    #[error("{name} must be a finite number, got {value}")]
+    #[error("{name} must be a finite number, got {}", Compact(*.value))]
     NotFinite {
         /// Parameter name.
         name: &'static str,
@@ -27,7 +41,7 @@ pub enum SprayError {
         value: Real,
     },
     /// A number is outside its allowed range.
-    #[error("{name} must be {range}, got {value}")]
+    #[error("{name} must be {range}, got {}", Compact(*.value))]
     OutOfRange {
         /// Parameter name.
         name: &'static str,
@@ -57,7 +71,7 @@ pub enum SprayError {
         normal: [Real; 3],
     },
     /// The spacing exceeds the width of the patch across the passes.
-    #[error("spacing {spacing} is larger than the patch, which is {width} wide across the passes")]
+    #[error("spacing {} is larger than the patch, which is {} wide across the passes", Compact(*.spacing), Compact(*.width))]
     SpacingTooLarge {
         /// The spacing given.
         spacing: Real,
@@ -65,7 +79,7 @@ pub enum SprayError {
         width: Real,
     },
     /// Too many scan planes.
-    #[error("spacing {spacing} gives {planes} scan planes across a patch {width} wide; at most {max} are allowed, use a larger spacing", max = MAX_PLANES)]
+    #[error("spacing {} gives {planes} scan planes across a patch {} wide; at most {max} are allowed, use a larger spacing", Compact(*.spacing), Compact(*.width), max = MAX_PLANES)]
     TooManyPlanes {
         /// The spacing.
         spacing: Real,
@@ -78,12 +92,13 @@ pub enum SprayError {
     #[error("no scan plane crosses the selected faces: the planes miss the patch")]
     PlanesMissPatch,
     /// The evaluation resolution would create too many samples.
-    #[error("resolution {resolution} would create about {samples} evaluation samples (at most {max} allowed); use a coarser resolution, e.g. {suggestion:.4}", max = MAX_SAMPLES)]
+    #[error("resolution {} would create {} evaluation samples (at most {max} allowed); use a coarser resolution, e.g. {}", Compact(*.resolution), Count(*.samples), Compact(*.suggestion), max = MAX_SAMPLES)]
     TooManySamples {
         /// The resolution used.
         resolution: Real,
-        /// Samples it would create.
-        samples: usize,
+        /// Samples it would create (counted as a real number: a tiny resolution makes more
+        /// than any integer type holds).
+        samples: Real,
         /// A resolution that fits.
         suggestion: Real,
     },
@@ -96,15 +111,19 @@ pub enum SprayError {
         samples: usize,
     },
     /// The time step would create too many trajectory samples.
-    #[error("timeStep {time_step} s would cut the trajectory into {samples} time samples (at most {max}); use a larger time step", max = MAX_TIME_SAMPLES)]
+    #[error("the trajectory's {} of gun-on path at timeStep {} s would take {} time samples (at most {max}); set timeStep to at least {} s, or plan fewer passes (a larger spacing or fewer faces)", Compact(*.length), Compact(*.time_step), Count(*.samples), Compact(*.suggestion), max = MAX_TIME_SAMPLES)]
     TooManyTimeSamples {
         /// The time step used.
         time_step: Real,
-        /// Samples it would take.
-        samples: usize,
+        /// Length of the gun-on path, mesh unit.
+        length: Real,
+        /// Samples it would take (a real number, as for `TooManySamples`).
+        samples: Real,
+        /// A time step that fits.
+        suggestion: Real,
     },
     /// The nominal speed lies outside the speed limits.
-    #[error("speed {speed} must lie within minSpeed {min} and maxSpeed {max}")]
+    #[error("speed {} must lie within minSpeed {} and maxSpeed {}", Compact(*.speed), Compact(*.min), Compact(*.max))]
     SpeedOutsideLimits {
         /// The speed given.
         speed: Real,

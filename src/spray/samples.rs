@@ -41,7 +41,7 @@ pub struct EvaluationSamples {
 /// rounded up, but no more than `2·√area / resolution`, so a sliver (a long edge, hardly
 /// any area) does not get thousands of samples; the two agree on well-shaped triangles.
 fn subdivisions(corners: &[Point3; 3], resolution: Real) -> usize {
-    subdivisions_of(face_scale(corners), resolution)
+    subdivision_count(face_scale(corners), resolution) as usize
 }
 
 /// A face's spacing (`√2` times its [`reach`]: the spacing of a square grid whose samples
@@ -92,10 +92,12 @@ fn reach(sides: [Real; 3], doubled_area2: Real) -> Real {
     }
 }
 
-fn subdivisions_of((spacing, root): (Real, Real), resolution: Real) -> usize {
+/// [`subdivisions`] from a face's [`face_scale`], as a real number (a tiny resolution splits
+/// a face more times than an integer type holds).
+fn subdivision_count((spacing, root): (Real, Real), resolution: Real) -> Real {
     let by_spacing = (spacing / resolution).ceil();
     let by_area = (root / resolution).ceil();
-    by_spacing.min(by_area).max(1.0) as usize
+    by_spacing.min(by_area).max(1.0)
 }
 
 /// Steps of the bisection in [`fit_resolution`] at most.
@@ -116,7 +118,7 @@ pub fn fit_resolution(mesh: &TriMesh, faces: &[u32], resolution: Real, budget: u
         scales
             .iter()
             .map(|&s| {
-                let k = subdivisions_of(s, r) as Real;
+                let k = subdivision_count(s, r);
                 (k + 1.0) * (k + 2.0) / 2.0
             })
             .sum()
@@ -169,10 +171,13 @@ pub fn sample_faces(
     // Sub-triangles, and (for the reservations) the samples on edges and inside faces.
     let (mut sub_triangles, mut on_edges, mut inside) = (0usize, 0usize, 0usize);
     for &f in faces {
-        let k = subdivisions(&mesh.corners(f as usize), resolution);
+        // Counted as a real number (a tiny resolution splits a face more times than a usize
+        // holds); the integer is used only once the count is known to fit.
+        let kr = subdivision_count(face_scale(&mesh.corners(f as usize)), resolution);
+        let k = kr as usize;
         // At most MAX_SAMPLES samples on a face: k fits a u32 once the count passes.
         subdivided.push(k.min(u32::MAX as usize) as u32);
-        total += (k as Real + 1.0) * (k as Real + 2.0) / 2.0;
+        total += (kr + 1.0) * (kr + 2.0) / 2.0;
         if total <= MAX_SAMPLES as Real {
             sub_triangles += k * k;
             on_edges += 3 * (k - 1);
@@ -189,8 +194,8 @@ pub fn sample_faces(
         }
         return Err(SprayError::TooManySamples {
             resolution,
-            samples: total as usize,
-            suggestion: resolution * (total / MAX_SAMPLES as Real).sqrt() * 1.1,
+            samples: total,
+            suggestion: fit_resolution(mesh, faces, resolution, MAX_SAMPLES),
         });
     }
     // About half as many vertices as faces on a closed mesh, and edge samples shared by two

@@ -86,7 +86,10 @@ pub fn krl_files(
         if !(value.is_finite() && value >= 0.0) {
             return Err(bad_option(
                 option,
-                format!("must be finite and ≥ 0 mm, got {value}"),
+                format!(
+                    "must be finite and ≥ 0 mm, got {}",
+                    crate::math::Compact(value)
+                ),
             ));
         }
     }
