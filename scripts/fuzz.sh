@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# `npm run fuzz`: the mutation and parameter fuzz tests of tests/fuzz.rs, natively in release
-# mode, for SKINPATH_FUZZ_SECONDS (default 60) each, both at once; prints the case counts
-# per kind. SKINPATH_FUZZ_SEED=N explores another sequence; SKINPATH_FUZZ_CASES=N runs a
+# `npm run fuzz`: the mutation, parameter and planner fuzz tests of tests/fuzz.rs, natively
+# in release mode, for SKINPATH_FUZZ_SECONDS (default 60) each, two at a time; prints the
+# case counts per kind. SKINPATH_FUZZ_SEED=N explores another sequence; SKINPATH_FUZZ_CASES=N runs a
 # fixed number of cases instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,6 +1,8 @@
-//! Mutation fuzzing: mangled STL files through import and segmentation, and random or extreme
-//! segmentation parameters. Every call must return `Ok` or an `Err` with a message, never
-//! panic or hang, and whatever is accepted must keep the documented invariants.
+//! Mutation fuzzing: mangled STL files through import and segmentation, random or extreme
+//! segmentation parameters, and random spray plans, geodesic passes and drilling corrections
+//! on generated surfaces and windows of the real models. Every call must return `Ok` or an
+//! `Err` with a message, never panic or hang, and whatever is accepted must keep the
+//! documented invariants.
 //!
 //! Fixed seed and a small case budget, so `cargo test` (debug build) and the WebAssembly run
 //! stay at a few seconds. Natively, `SKINPATH_FUZZ_CASES=N` sets the number of cases per
@@ -702,5 +704,263 @@ fn any_segmentation_parameters_give_a_result_or_an_error() {
         .zip(by_criterion)
     {
         eprintln!("  {name}: {cases} cases, {ok} accepted");
+    }
+}
+
+/// Prints the case being run if it panics.
+struct Announce(String);
+
+impl Drop for Announce {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            eprintln!("fuzz case failed: {}", self.0);
+        }
+    }
+}
+
+/// Whether a refusal reads as a message: not empty, no number echoed in hundreds of digits,
+/// no Rust spelling of infinity.
+fn check_message(what: &str, message: &str) {
+    assert!(!message.trim().is_empty(), "{what}: empty message");
+    let longest = message
+        .split(|c: char| !c.is_ascii_digit())
+        .map(str::len)
+        .max()
+        .unwrap_or(0);
+    assert!(longest <= 25, "{what}: {message}");
+    assert!(
+        !message
+            .split(|c: char| !c.is_ascii_alphabetic())
+            .any(|w| w == "inf"),
+        "{what}: {message}"
+    );
+}
+
+/// The meshes the planners are tried on: generated surfaces (a plate, a curved panel, a
+/// sphere, a cube) and natively the windows of the shared real models, with their sizes.
+fn planner_meshes() -> Vec<(String, ImportedMesh, f64)> {
+    let mut files: Vec<(String, Vec<u8>)> = vec![
+        ("plate".into(), binary_stl(&common::plane(400.0, 300.0, 8))),
+        (
+            "panel".into(),
+            binary_stl(&common::grid(12, 6, false, |u, v| {
+                let a = 0.8 * (u - 0.5);
+                [1500.0 * a.sin(), 800.0 * v, 1500.0 * a.cos()]
+            })),
+        ),
+        ("sphere".into(), binary_stl(&common::sphere(2.0, 12, 6))),
+        ("cube".into(), binary_stl(&common::refined_cube(3))),
+    ];
+    #[cfg(not(target_arch = "wasm32"))]
+    files.extend(model_windows());
+    files
+        .into_iter()
+        .filter_map(|(name, bytes)| {
+            let m = import_stl(&bytes, &mut |_, _| {}).ok()?;
+            let p = m.mesh.positions();
+            let (lo, hi) = p
+                .iter()
+                .fold((p[0], p[0]), |(lo, hi), q| (lo.inf(q), hi.sup(q)));
+            let size = (hi - lo).norm();
+            (size > 0.0).then_some((name, m, size))
+        })
+        .collect()
+}
+
+/// Random spray plans, geodesic passes and drilling corrections on generated surfaces and
+/// windows of the real models, with parameters drawn across their ranges and a little beyond:
+/// each returns a result that keeps its promises (finite thickness, valid tool paths whose
+/// exports are written or refused) or an `Err` whose message reads as one, never a panic.
+#[test]
+fn random_plans_give_sound_results_or_readable_errors() {
+    use skinpath::drill::{correct_holes, CorrectionParams, MeshIndex, ReferenceHole};
+    use skinpath::geodesic::{geodesic_distance, DistanceParams, GeodesicSource, Method};
+    use skinpath::math::{Point3, Vector3};
+    use skinpath::spray::{plan_spray, QualityLimits};
+    use skinpath::toolpath::{to_csv, to_json, to_krl, to_rapid, ExportOptions, ToolPath};
+
+    let meshes = planner_meshes();
+    let budget = Budget::new(20, 6);
+    let mut rng = Rng(seed() ^ 0x91a7_5000_0000_0000);
+    let log = |rng: &mut Rng, lo: f64, hi: f64| (lo.ln() + (hi.ln() - lo.ln()) * rng.unit()).exp();
+    let exports = |path: &ToolPath, what: &str| {
+        path.validate()
+            .unwrap_or_else(|e| panic!("{what}: invalid path: {e}"));
+        let o = ExportOptions::default();
+        for out in [to_csv(path, &o).map(|_| ()), to_json(path, &o).map(|_| ())]
+            .into_iter()
+            .chain([to_rapid(path, &o).map(|_| ()), to_krl(path, &o).map(|_| ())])
+        {
+            if let Err(e) = out {
+                check_message(what, &e.to_string());
+            }
+        }
+    };
+    let mut done = 0;
+    let mut tally = [(0usize, 0usize); 3];
+    while budget.more(done) {
+        let (name, m, size) = rng.pick(&meshes);
+        let n = m.mesh.triangle_count();
+        // All faces, or a breadth-first blob from a random face.
+        let faces: Vec<u32> = if rng.below(2) == 0 {
+            (0..n as u32).collect()
+        } else {
+            let start = rng.below(n);
+            let want = 1 + rng.below(n);
+            let mut seen = vec![false; n];
+            let mut blob = vec![start as u32];
+            seen[start] = true;
+            let mut head = 0;
+            while head < blob.len() && blob.len() < want {
+                let f = blob[head] as usize;
+                head += 1;
+                for g in m.adjacency.neighbours_of(f) {
+                    if !seen[g] {
+                        seen[g] = true;
+                        blob.push(g as u32);
+                    }
+                }
+            }
+            blob
+        };
+        let kind = rng.below(3);
+        let what = format!("seed {:#x}, case {done}, {name}, kind {kind}", seed());
+        let _case = Announce(what.clone());
+        tally[kind].0 += 1;
+        match kind {
+            0 => {
+                let standoff = size * log(&mut rng, 0.01, 0.5);
+                let cone = (5.0 + 115.0 * rng.unit()).to_radians();
+                let radius = standoff * (0.5 * cone).tan();
+                let p = skinpath::spray::SprayParams {
+                    spacing: radius * log(&mut rng, 0.1, 4.0),
+                    standoff,
+                    speed: size * log(&mut rng, 0.01, 1.0),
+                    flow_rate: size.powi(3) * log(&mut rng, 1e-9, 1e-5),
+                    cone_angle: cone,
+                    transition_angle: (89.0 * rng.unit()).to_radians(),
+                    efficiency: 0.05 + 0.95 * rng.unit(),
+                    raster_angle: 6.4 * rng.unit() - 3.2,
+                    extension: (rng.below(3) == 0).then(|| radius * 3.0 * rng.unit()),
+                    edge_exclusion: (rng.below(3) == 0).then(|| radius * 3.0 * rng.unit()),
+                    sample_budget: Some(200 + rng.below(2000)),
+                    quality: (rng.below(3) == 0).then(|| QualityLimits {
+                        max_error: Some(0.05 + 0.5 * rng.unit()),
+                        ..QualityLimits::default()
+                    }),
+                    target_thickness: (rng.below(5) == 0)
+                        .then(|| size * 1e-6 * log(&mut rng, 1.0, 1e3)),
+                    optimise_speed: rng.below(3) != 0,
+                    best_direction: rng.below(5) == 0,
+                    ..skinpath::spray::SprayParams::default()
+                };
+                let _case = Announce(format!("{what}: {p:?}"));
+                match plan_spray(
+                    &m.mesh,
+                    &m.adjacency,
+                    &m.geometry,
+                    &faces,
+                    &p,
+                    &mut |_, _| {},
+                ) {
+                    Ok(plan) => {
+                        tally[kind].1 += 1;
+                        assert!(
+                            plan.thickness.iter().all(|t| t.is_finite() && *t >= 0.0),
+                            "{what}: thickness"
+                        );
+                        assert_eq!(plan.thickness.len(), plan.samples.positions.len());
+                        exports(&plan.path, &what);
+                    }
+                    Err(e) => check_message(&what, &e.to_string()),
+                }
+            }
+            1 => {
+                let method =
+                    *rng.pick(&[Method::Accurate, Method::Fast, Method::Exact, Method::Voxel]);
+                let f = faces[rng.below(faces.len())] as usize;
+                let source = match rng.below(3) {
+                    0 => GeodesicSource::Boundary {
+                        loop_index: (rng.below(2) == 0).then(|| rng.below(3)),
+                    },
+                    1 => GeodesicSource::Vertices(vec![m.mesh.triangles()[f][0]]),
+                    _ => GeodesicSource::Plane {
+                        point: m.geometry.centroids()[f],
+                        normal: Vector3::new(rng.unit() - 0.5, rng.unit() - 0.5, rng.unit() - 0.5),
+                    },
+                };
+                let params = DistanceParams {
+                    method,
+                    faces: (faces.len() < n).then(|| faces.clone()),
+                    ..DistanceParams::default()
+                };
+                match geodesic_distance(&m.mesh, &m.adjacency, &source, &params, &mut |_, _| {}) {
+                    Ok(field) => {
+                        tally[kind].1 += 1;
+                        assert!(
+                            field.vertex_distance.iter().all(|d| *d >= 0.0),
+                            "{what}: distances"
+                        );
+                        assert!(field.max_distance.is_finite(), "{what}: largest distance");
+                        let pp = skinpath::geodesic::PathParams {
+                            spacing: size * log(&mut rng, 0.005, 0.5),
+                            ..skinpath::geodesic::PathParams::default()
+                        };
+                        match field.tool_path(&m.mesh, &m.adjacency, &pp) {
+                            Ok(path) => exports(&path, &what),
+                            Err(e) => check_message(&what, &e.to_string()),
+                        }
+                    }
+                    Err(e) => check_message(&what, &e.to_string()),
+                }
+            }
+            _ => {
+                // Four references round a random face's neighbourhood, errors of a few per cent.
+                let c = m.geometry.centroids()[faces[rng.below(faces.len())] as usize];
+                let (w, h) = (size * 0.2 * rng.unit(), size * 0.2 * rng.unit());
+                let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+                let references: [ReferenceHole; 4] = std::array::from_fn(|k| {
+                    let nominal = c + Vector3::new(corners[k].0 * w, corners[k].1 * h, 0.0);
+                    ReferenceHole {
+                        nominal,
+                        actual: nominal
+                            + Vector3::new(rng.unit(), rng.unit(), rng.unit()) * 0.02 * w,
+                        normal: Vector3::new(0.2 * rng.unit(), 0.2 * rng.unit(), 1.0),
+                        nominal_normal: None,
+                    }
+                });
+                let holes: Vec<Point3> = (0..rng.below(8))
+                    .map(|_| c + Vector3::new(rng.unit() * w, rng.unit() * h, 0.0))
+                    .collect();
+                let params = CorrectionParams {
+                    references,
+                    holes,
+                    method: *rng.pick(&[
+                        skinpath::drill::Method::Coons,
+                        skinpath::drill::Method::Bilinear,
+                    ]),
+                    tangent_scale: None,
+                    extrapolate: rng.below(2) == 0,
+                };
+                let index = MeshIndex::new(&m.mesh);
+                let panel = (rng.below(2) == 0).then_some(&index);
+                match correct_holes(&params, panel) {
+                    Ok(out) => {
+                        tally[kind].1 += 1;
+                        assert!(
+                            out.corrected
+                                .iter()
+                                .all(|p| p.iter().all(|x| x.is_finite())),
+                            "{what}: corrected holes"
+                        );
+                    }
+                    Err(e) => check_message(&what, &e.to_string()),
+                }
+            }
+        }
+        done += 1;
+    }
+    for (kind, (cases, ok)) in ["spray", "geodesic", "drill"].iter().zip(tally) {
+        eprintln!("  {kind}: {cases} cases, {ok} planned");
     }
 }
