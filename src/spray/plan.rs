@@ -391,6 +391,12 @@ pub fn plan_spray(
                 },
                 &mut |f| progress("spray search", f),
             )?;
+            if let Some((b, why)) = &choice.too_narrow {
+                messages.push(format!(
+                    "spacings of {} and narrower were left out of the search: {why}",
+                    Compact(*b)
+                ));
+            }
             (choice.spacing, choice.iterations)
         }
         _ => (params.spacing, Vec::new()),

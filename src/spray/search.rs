@@ -28,7 +28,11 @@
 //!         next candidate follows). When no spacing
 //!         meets the limits, the widest one whose excess `max(E/E_m, δ/δ_m)` is within
 //!         [`FALLBACK_MARGIN`] of the smallest excess seen is chosen (evaluated at full
-//!         resolution), not simply the closest one, which is often the narrowest.
+//!         resolution), not simply the closest one, which is often the narrowest. A
+//!         spacing too narrow to plan within the bounds on work (too many scan planes, or
+//!         its trajectory too long for the time samples) counts as failing, and every
+//!         narrower one is left out unevaluated ([`SpacingChoice::too_narrow`]); the plan is
+//!         refused only when no spacing could be planned.
 
 use super::params::SprayError;
 use super::quality::ThicknessStats;
@@ -139,6 +143,19 @@ pub struct SpacingChoice {
     pub met: bool,
     /// Every spacing tried, in the order tried.
     pub iterations: Vec<Iteration>,
+    /// The widest spacing found too narrow to plan within the bounds on work (its passes
+    /// too many, or their trajectory too long for the time samples), and why: it and every
+    /// narrower spacing were left out of the search.
+    pub too_narrow: Option<(Real, SprayError)>,
+}
+
+/// Whether an evaluation failed because its spacing is too narrow to plan within the bounds
+/// on work: every narrower spacing has more passes and fails too.
+fn too_narrow(e: &SprayError) -> bool {
+    matches!(
+        e,
+        SprayError::TooManyTimeSamples { .. } | SprayError::TooManyPlanes { .. }
+    )
 }
 
 /// How a spacing is evaluated: on the coarse samples (scan) or the full ones.
@@ -170,11 +187,33 @@ pub fn search_spacing(
     let candidates = candidates(lo, hi, predict);
     let total = (candidates.len() + REFINE_STEPS + CONFIRM_STEPS + 1) as f64;
     let mut iterations: Vec<Iteration> = Vec::new();
+    // A spacing too narrow to plan counts as one that fails the limits, and so does every
+    // narrower one, unevaluated: the widest spacings are the ones sought, and the search
+    // goes on from the others (a whole aircraft searched down to R/4 apart: its passes at
+    // the narrowest took more time samples than a plan may).
+    // Only spacings narrower than every one planned are left out (a trajectory's length is
+    // not strictly monotone in the spacing: one wider than a planned one that fails is only
+    // counted as failing).
+    let mut narrow: Option<(Real, SprayError)> = None;
+    let mut narrowest_planned = Real::INFINITY;
     let mut run = |b: Real,
                    fidelity: Fidelity,
                    iterations: &mut Vec<Iteration>|
      -> Result<bool, SprayError> {
-        let (s, resolution) = evaluate(b, fidelity)?;
+        if narrow.as_ref().is_some_and(|(n, _)| b <= *n) {
+            return Ok(false);
+        }
+        let (s, resolution) = match evaluate(b, fidelity) {
+            Ok(figures) => figures,
+            Err(e) if too_narrow(&e) => {
+                if b < narrowest_planned {
+                    narrow = Some((b, e));
+                }
+                return Ok(false);
+            }
+            Err(e) => return Err(e),
+        };
+        narrowest_planned = narrowest_planned.min(b);
         let met = limits.met(&s);
         iterations.push(Iteration {
             spacing: b,
@@ -225,6 +264,7 @@ pub fn search_spacing(
                 spacing: widest,
                 met: true,
                 iterations,
+                too_narrow: narrow,
             });
         }
         let mut confirm: Vec<Real> = iterations
@@ -257,6 +297,7 @@ pub fn search_spacing(
                     spacing: c,
                     met: true,
                     iterations,
+                    too_narrow: narrow,
                 });
             }
             from = k + 1;
@@ -285,10 +326,15 @@ pub fn search_spacing(
         run(pick, Fidelity::Full, &mut iterations)?;
         pick = widest_near_best(&iterations, true);
     }
+    // Every spacing tried was too narrow to plan (the widest too): nothing to choose from.
+    if !pick.is_finite() {
+        return Err(narrow.map_or(SprayError::PlanesMissPatch, |(_, e)| e));
+    }
     Ok(SpacingChoice {
         spacing: pick,
         met: false,
         iterations,
+        too_narrow: narrow,
     })
 }
 
@@ -382,6 +428,62 @@ mod tests {
             &mut |_| {},
         )
         .unwrap()
+    }
+
+    /// Spacings below 0.1 cannot be planned (too many time samples), and δ falls with the
+    /// spacing, so only spacings below 0.1 would meet δ ≤ 0.05: the search leaves them out
+    /// instead of failing, evaluates nothing at or below the narrowest refused, chooses the
+    /// widest near the best figures among the others, and reports the refusal; with every
+    /// spacing refused, the plan is refused with it.
+    #[test]
+    fn spacings_too_narrow_to_plan_are_left_out_not_fatal() {
+        let limits = Limits {
+            max_std_dev: None,
+            max_error: Some(0.05),
+        };
+        let refused = |b: Real| SprayError::TooManyTimeSamples {
+            time_step: 1.0,
+            length: 1.0,
+            samples: 3e7 * 0.1 / b,
+            suggestion: 2.0,
+        };
+        let run = |floor: Real| {
+            let mut tried: Vec<Real> = Vec::new();
+            let out = search_spacing(
+                0.03,
+                0.25,
+                &limits,
+                true,
+                &|_| 0.5,
+                &mut |b, _| {
+                    tried.push(b);
+                    if b < floor {
+                        return Err(refused(b));
+                    }
+                    let stats = ThicknessStats {
+                        mean: 1.0,
+                        error: b,
+                        ..Default::default()
+                    };
+                    Ok((stats, 1.0))
+                },
+                &mut |_| {},
+            );
+            (out, tried)
+        };
+        let (out, tried) = run(0.1);
+        let c = out.unwrap();
+        let (narrow, why) = c.too_narrow.clone().expect("a spacing was refused");
+        assert!(narrow < 0.1 && matches!(why, SprayError::TooManyTimeSamples { .. }));
+        // One refusal: nothing narrower was evaluated after it.
+        assert_eq!(tried.iter().filter(|&&b| b < 0.1).count(), 1, "{tried:?}");
+        assert!(!c.met && c.spacing >= 0.1, "{c:?}");
+        assert!(c.iterations.iter().all(|it| it.spacing >= 0.1));
+        let (out, _) = run(1.0);
+        assert!(
+            matches!(out, Err(SprayError::TooManyTimeSamples { .. })),
+            "{out:?}"
+        );
     }
 
     /// The screening meets the limits up to 0.215 and the full samples up to 0.205: the
