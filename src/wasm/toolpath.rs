@@ -61,7 +61,7 @@ pub(crate) fn export_options_from_js(value: &JsValue) -> Result<ExportOptions, J
     if let Some(name) = r.optional_string("name")? {
         o.name = name;
     }
-    if let Some(moves) = r.optional_integer("maxMoves", 0, 1 << 30)? {
+    if let Some(moves) = r.optional_integer("maxMoves", 1, 1 << 30)? {
         o.max_moves = Some(moves as usize);
     }
     if let Some(ending) = r.optional_choice("lineEnding", &["lf", "crlf"])? {

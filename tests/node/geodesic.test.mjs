@@ -366,6 +366,8 @@ test('bad input throws an Error naming it and the mesh keeps working', () => {
   const path = field.toolPath(10);
   refuses(() => path.toCsv({ mmPerUnit: 0 }), /mmPerUnit/);
   refuses(() => path.toRapid({ unit: 'mm' }), /^unknown export option 'unit'$/);
+  // One range for every value that is not a move count (0 said "at least 1", −1 "from 0").
+  for (const bad of [0, -1, 0.5]) refuses(() => path.toRapid({ maxMoves: bad }), /^maxMoves must be a whole number from 1 to 1073741824, got /);
   path.free();
   field.free();
   stillWorks();
