@@ -37,11 +37,11 @@ use std::fmt::Write;
 /// Longest KRL name.
 const KRL_MAX_IDENTIFIER: usize = 24;
 /// Highest output number accepted for `$OUT[n]`.
-const KRL_MAX_OUTPUT: u32 = 4096;
+pub const KRL_MAX_OUTPUT: u32 = 4096;
 /// Highest tool number (`TOOL_DATA[1..16]`).
-const KRL_MAX_TOOL: u32 = 16;
+pub const KRL_MAX_TOOL: u32 = 16;
 /// Highest base number (`BASE_DATA[1..32]`).
-const KRL_MAX_BASE: u32 = 32;
+pub const KRL_MAX_BASE: u32 = 32;
 
 /// Axis speed of the joint move to the approach pose, percent of the maximum
 /// (`BAS(#VEL_PTP, …)`): a cautious first move from wherever the robot stands.

@@ -118,8 +118,8 @@ pub use export::{
     ZERO_MOVE_MIN_MM, ZERO_MOVE_REL_TOL,
 };
 pub use json::{to_json, JSON_FORMAT, JSON_VERSION};
-pub use krl::KRL_PTP_VELOCITY_PERCENT;
 pub use krl::{krl_files, to_krl};
+pub use krl::{KRL_MAX_BASE, KRL_MAX_OUTPUT, KRL_MAX_TOOL, KRL_PTP_VELOCITY_PERCENT};
 pub use path::{Pose, PoseKind, ToolPath, ToolPathError};
 pub use rapid::{
     rapid_files, to_rapid, RAPID_LINK_SPEED, RAPID_MAX_SPEEDDATA, RAPID_PROCESS_SPEED,

@@ -2,7 +2,9 @@
 //! spray plans, geodesic passes and drilling poses).
 
 use super::params::ParamReader;
-use crate::toolpath::{ExportOptions, LineEnding, ToolPath};
+use crate::toolpath::{
+    ExportOptions, LineEnding, ToolPath, KRL_MAX_BASE, KRL_MAX_OUTPUT, KRL_MAX_TOOL,
+};
 use wasm_bindgen::prelude::*;
 
 /// Keys of the JavaScript `ExportOptions`.
@@ -86,12 +88,13 @@ pub(crate) fn export_options_from_js(value: &JsValue) -> Result<ExportOptions, J
             *slot = v;
         }
     }
-    for (key, slot) in [
-        ("krlOutput", &mut o.krl.process_output),
-        ("krlTool", &mut o.krl.tool),
-        ("krlBase", &mut o.krl.base),
+    // The ranges the KRL export takes, so a value out of them is named with them here.
+    for (key, slot, max) in [
+        ("krlOutput", &mut o.krl.process_output, KRL_MAX_OUTPUT),
+        ("krlTool", &mut o.krl.tool, KRL_MAX_TOOL),
+        ("krlBase", &mut o.krl.base, KRL_MAX_BASE),
     ] {
-        if let Some(v) = r.optional_integer(key, 0, u32::MAX as i64)? {
+        if let Some(v) = r.optional_integer(key, 1, max as i64)? {
             *slot = v as u32;
         }
     }

@@ -75,6 +75,13 @@ test('bad options and reserved names are refused, naming the key or the clash', 
     assert.throws(() => program('krl', { name: 'Tool_Data' }), /TOOL_DATA/);
     assert.throws(() => program('krl', { krlOutput: 0 }), /krlOutput/);
     assert.throws(() => program('krl', { krlTool: 1.5 }), /krlTool must be a whole number/);
+    // The controller's ranges are named wherever a value falls out of them (−1 said "from 0
+    // to 4294967295", 17 "in 1..=16").
+    for (const [key, max] of [['krlOutput', 4096], ['krlTool', 16], ['krlBase', 32]]) {
+      for (const bad of [-1, 0, max + 1]) {
+        assert.throws(() => program('krl', { [key]: bad }), new RegExp(`^Error: ${key} must be a whole number from 1 to ${max}, got `));
+      }
+    }
     assert.throws(() => program('krl', { krlUnwrap: true }), /unknown export option 'krlUnwrap'/);
   });
 });
