@@ -10,7 +10,10 @@
 
 use skinpath::geodesic::{geodesic_distance, DistanceParams, GeodesicSource, Method};
 use skinpath::math::{Point3, Real, Vector3};
-use skinpath::mesh::{FaceAdjacency, TriMesh};
+
+#[path = "../tests/common/geodesic_shapes.rs"]
+mod shapes;
+use shapes::holed_surface;
 
 /// A linear congruential generator: the same cases on every machine.
 struct Lcg(u64);
@@ -36,7 +39,6 @@ fn main() {
     let notch = std::env::var_os("NOTCH").is_some();
     let mut rng = Lcg(env("SEED").unwrap_or(1));
     let (w, l) = (50u32, 70u32);
-    let at = |i: u32, j: u32| j * (w + 1) + i;
     let (mut bad, mut worst_short, mut worst_long, mut mean) = (0, 0.0 as Real, 0.0 as Real, 0.0);
     let mut measured = 0;
     for case in 0..count {
@@ -57,34 +59,15 @@ fn main() {
         if only.is_some_and(|c| c != case) {
             continue;
         }
-        let positions: Vec<Point3> = (0..=l)
-            .flat_map(|j| (0..=w).map(move |i| (Real::from(i), Real::from(j))))
-            .map(|(x, y)| {
-                let z = if curved {
-                    0.002 * ((x - 25.0).powi(2) + (y - 35.0).powi(2))
-                } else {
-                    0.0
-                };
-                Point3::new(x, y, z)
-            })
-            .collect();
-        let mut triangles = Vec::new();
-        for j in 0..l {
-            for i in 0..w {
-                let (cx, cy) = (Real::from(i) + 0.5 - hx, Real::from(j) + 0.5 - hy);
-                if cx.hypot(cy) < radius {
-                    continue;
-                }
-                let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-                if (i + j) % 2 == 0 {
-                    triangles.extend([[a, b, c], [a, c, d]]);
-                } else {
-                    triangles.extend([[a, b, d], [b, c, d]]);
-                }
+        let height = |x: Real, y: Real| {
+            if curved {
+                0.002 * ((x - 25.0).powi(2) + (y - 35.0).powi(2))
+            } else {
+                0.0
             }
-        }
-        let mesh = TriMesh::new(positions, triangles).expect("a plate with a hole");
-        let adjacency = FaceAdjacency::new(&mesh);
+        };
+        let (s, at) = holed_surface(w, l, (hx, hy), radius, height);
+        let (mesh, adjacency) = (&s.mesh, &s.adjacency);
         let source = if point {
             let v = at(sx as u32, sy as u32) as usize;
             let p = mesh.positions()[v];
@@ -104,7 +87,7 @@ fn main() {
                 exact_first_windows,
                 ..DistanceParams::default()
             };
-            geodesic_distance(&mesh, &adjacency, &source, &params, &mut |_, _| {})
+            geodesic_distance(mesh, adjacency, &source, &params, &mut |_, _| {})
                 .map(|f| f.vertex_distance)
         };
         // Virtual sources alone: no exact first try.

@@ -763,49 +763,6 @@ fn virtual_sources_go_round_a_hole_not_across_it() {
     }
 }
 
-/// A plate of `w` × `l` unit squares (diagonals alternating) without the squares whose
-/// centres lie within `radius` of `centre` (a hole with a jagged rim), and the id of the
-/// vertex at `(i, j)`.
-fn holed_plate(
-    w: u32,
-    l: u32,
-    centre: (Real, Real),
-    radius: Real,
-) -> (Shape, impl Fn(u32, u32) -> u32) {
-    holed_surface(w, l, centre, radius, |_, _| 0.0)
-}
-
-/// [`holed_plate`] with its vertex `(x, y)` lifted to `height(x, y)`.
-fn holed_surface(
-    w: u32,
-    l: u32,
-    centre: (Real, Real),
-    radius: Real,
-    height: impl Fn(Real, Real) -> Real,
-) -> (Shape, impl Fn(u32, u32) -> u32) {
-    let at = move |i: u32, j: u32| j * (w + 1) + i;
-    let positions = (0..=l)
-        .flat_map(|j| (0..=w).map(move |i| (i as Real, j as Real)))
-        .map(|(x, y)| Point3::new(x, y, height(x, y)))
-        .collect();
-    let mut triangles = Vec::new();
-    for j in 0..l {
-        for i in 0..w {
-            let c = Point3::new(i as Real + 0.5, j as Real + 0.5, 0.0);
-            if (c - Point3::new(centre.0, centre.1, 0.0)).norm() < radius {
-                continue;
-            }
-            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            if (i + j) % 2 == 0 {
-                triangles.extend([[a, b, c], [a, c, d]]);
-            } else {
-                triangles.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
-    (shape(positions, triangles), at)
-}
-
 /// The accurate method's distances on `s` from `source` (virtual sources: no exact first
 /// try) against the exact method's: most short, most beyond, and how many vertices the
 /// exact path reaches longer than `straight` (the shadow of a hole).

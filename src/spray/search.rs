@@ -188,12 +188,11 @@ pub fn search_spacing(
     let total = (candidates.len() + REFINE_STEPS + CONFIRM_STEPS + 1) as f64;
     let mut iterations: Vec<Iteration> = Vec::new();
     // A spacing too narrow to plan counts as one that fails the limits, and so does every
-    // narrower one, unevaluated: the widest spacings are the ones sought, and the search
-    // goes on from the others (a whole aircraft searched down to R/4 apart: its passes at
-    // the narrowest took more time samples than a plan may).
-    // Only spacings narrower than every one planned are left out (a trajectory's length is
-    // not strictly monotone in the spacing: one wider than a planned one that fails is only
-    // counted as failing).
+    // narrower one, unevaluated: the widest spacings are the ones sought, and the search goes
+    // on from the others (a whole aircraft searched down to R/4 apart: its passes at the
+    // narrowest took more time samples than a plan may). Only spacings narrower than every
+    // one planned are left out: a trajectory's length is not strictly monotone in the
+    // spacing, so one wider than a planned one that fails only counts as failing.
     let mut narrow: Option<(Real, SprayError)> = None;
     let mut narrowest_planned = Real::INFINITY;
     let mut run = |b: Real,
