@@ -15,10 +15,12 @@
 // marching's the median of as many solves by one solver: single runs on a shared machine
 // vary by a third. Three times per method: `cold`, the first call in a fresh process (it runs
 // partly in the engine's baseline code and compiles meanwhile); `page`, the first call after
-// the warm-up the page's worker runs once a model is open and the memory reservation the
-// Paths tool asks for when it is opened (www/worker/warm-up.js: the Paths tool's first
-// distance on a model); `warm`, the same call made again in the process, once
-// the engine has compiled the hot code to optimised machine code and the memory is grown.
+// the warm-up the page's worker runs once a model is open and what the Paths tool prepares
+// when it is opened (www/worker/paths.js `prepare`: the surface a distance on the whole
+// model starts from, as fast marching's solver is built before its solve, and the memory of
+// the first distance, www/worker/warm-up.js): the Paths tool's first distance on a model;
+// `warm`, the same call made again in the process (the surface kept from the first call),
+// once the engine has compiled the hot code to optimised machine code and the memory is grown.
 // `exact` is skipped above GEODESIC_EXACT_MAX triangles (default 100 000; it takes minutes
 // there: n^1.6 growth). Fast marching: potpourri3d 1.4.0 `MeshFastMarchingDistanceSolver` on the
 // same vertices (rounded to f32 like the STL) and source (the rim as a closed curve through its
@@ -159,10 +161,12 @@ async function runCase(shape, target, method, page) {
   const mesh3 = SHAPES[shape](target);
   const mesh = Mesh.fromStl(toBinaryStl(mesh3));
   // As in the page: the model is open, then the worker warms up while the user looks at it,
-  // and the Paths tool, once opened, has the memory of its first distance reserved.
+  // and the Paths tool, once opened, has the surface of a distance on the whole model
+  // derived and the memory of its first distance reserved.
   if (page) {
     const { warmUp, reserveFirstDistance } = await import(join(root, 'dist/worker/warm-up.js'));
     warmUp(Mesh);
+    mesh.prepareGeodesic();
     reserveFirstDistance(reserveMemory, mesh.triangleCount);
   }
   const positions = mesh.positions();
@@ -258,7 +262,7 @@ export async function main() {
     '\n  Time: geodesicDistance alone (WebAssembly in Node); fast marching: potpourri3d 1.4.0, native, solve' +
     ' (and setup + solve); ×FMM: time / fast-marching solve time.' +
     `\n  Times: medians of ${RUNS} runs (GEODESIC_CURVED_RUNS), each of ours in a fresh process (cold: the first call there;` +
-    ' page: the first call after the page\'s warm-up and the Paths tool\'s memory reservation, www/worker/warm-up.js; warm: the same call again), fast marching\'s by one solver.');
+    ' page: the first call after the page\'s warm-up and what the Paths tool prepares when opened (the surface, the memory), www/worker/paths.js; warm: the same call again), fast marching\'s by one solver.');
   const fmm = potpourri();
   if (fmm.why) console.log(`  fast marching column left out: ${fmm.why}.`);
   console.log('shape    triangles  method          cold ms   ×FMM  page ms   ×FMM  warm ms   ×FMM   max err mm  mean err mm');

@@ -5,8 +5,8 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use skinpath::geodesic::{
-    boundary_loops, geodesic_distance, DistanceField, DistanceParams, GeodesicError,
-    GeodesicSource, IsoLine, LinkOrder, Method, PathParams,
+    boundary_loops, geodesic_distance, geodesic_distance_cached, DistanceField, DistanceParams,
+    GeodesicError, GeodesicSource, IsoLine, LinkOrder, Method, PathParams, SurfaceCache,
 };
 use skinpath::math::{Point3, Real};
 use skinpath::toolpath::PoseKind;
@@ -326,6 +326,72 @@ fn voxel_method_is_within_two_voxels() {
     let err = path_error(&ls, |p| arc_from(p, a0));
     eprintln!("voxel generator error {err}");
     assert!(err < 2.0 * l, "voxel generator error {err}");
+}
+
+/// A mesh's surface cache (what the Paths tool keeps between distances) changes nothing:
+/// every method gives the same distances and passes, to the bit, with and without it, on the
+/// whole mesh and on a face subset, in any order; and a field's passes are cut on its own
+/// mesh only.
+#[test]
+fn a_kept_surface_gives_the_same_distances_and_passes() {
+    // A curved plate with a hole: the accurate method's rings to the rim are kept too (its
+    // exact first try is left out, so that the virtual sources run).
+    let (s, at) = holed_surface(24, 30, (12.0, 14.0), 4.0, |x, y| 0.02 * x * y);
+    let half: Vec<u32> = (0..s.mesh.triangle_count() as u32 / 2).collect();
+    let cache = SurfaceCache::new();
+    let sources = [
+        GeodesicSource::Vertices(vec![at(0, 0)]),
+        GeodesicSource::Boundary {
+            loop_index: Some(0),
+        },
+        GeodesicSource::Plane {
+            point: Point3::new(5.0, 20.0, 2.0),
+            normal: skinpath::math::Vector3::new(1.0, 0.2, 0.0),
+        },
+    ];
+    for faces in [None, Some(half.clone()), None, Some(half)] {
+        for method in [Method::Accurate, Method::Fast, Method::Exact] {
+            for source in &sources {
+                let params = DistanceParams {
+                    method,
+                    faces: faces.clone(),
+                    exact_first_windows: Some(0),
+                    ..DistanceParams::default()
+                };
+                let fresh = distance(&s, source, &params);
+                let kept = geodesic_distance_cached(
+                    &s.mesh,
+                    &s.adjacency,
+                    Some(&cache),
+                    source,
+                    &params,
+                    &mut |_, _| {},
+                )
+                .unwrap();
+                let bits = |f: &DistanceField| {
+                    f.vertex_distance
+                        .iter()
+                        .map(|d| d.to_bits())
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&fresh), bits(&kept), "{method:?} on {faces:?}");
+                let [a, b] = [&fresh, &kept].map(|f| lines(&s, f, 2.0, None));
+                assert_eq!(a.len(), b.len());
+                for (a, b) in a.iter().zip(&b) {
+                    assert_eq!(a.points, b.points);
+                }
+            }
+        }
+    }
+    cache.clear();
+    // Another mesh: the passes of this field are not cut there.
+    let other = cylinder(12, 6);
+    let field = distance(&s, &sources[0], &DistanceParams::default());
+    let e = field
+        .iso_lines(&other.mesh, &other.adjacency, &PathParams::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("computed on a mesh of"), "{e}");
 }
 
 #[test]

@@ -16,13 +16,14 @@
 use super::iso_lines::{contour, IsoLine};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
 use super::source::{boundary_loops, resolve, GeodesicSource};
-use super::surface::Surface;
+use super::surface::{Derived, Surface, SurfaceCache};
 use super::unfolding::is_hole_rim;
 use super::voxel::{propagate as voxel_propagate, voxelise, VoxelField};
 use super::voxel_paths::order_level;
 use crate::math::{Real, Vector3};
 use crate::mesh::{FaceAdjacency, TriMesh};
 use crate::toolpath::{Pose, PoseKind, ToolPath};
+use std::sync::Arc;
 
 /// Levels at most in one request (a guard against a spacing far below the part size).
 pub const MAX_LEVELS: u32 = 100_000;
@@ -64,7 +65,10 @@ const EXACT_FIRST_WINDOWS_PER_FACE: u64 = 64;
 /// virtual sources answered 0.078 ft long and 0.032 short by a notch in a hole's rim).
 const EXACT_FIRST_MIN_WINDOWS: u64 = 1 << 22;
 
-/// Geodesic distance from a source, by the mesh or the voxel method.
+/// Geodesic distance from a source, by the mesh or the voxel method. It keeps what it was
+/// computed on (the active faces, their normals, the faces around each vertex: about 45 bytes
+/// a face, shared with the mesh's [`SurfaceCache`] when it came through one), which its iso
+/// lines and tool path reuse.
 #[derive(Clone, Debug)]
 pub struct DistanceField {
     /// Which method produced it.
@@ -80,7 +84,9 @@ pub struct DistanceField {
     pub source_samples: usize,
     /// Windows propagated (exact method; 0 for the others).
     pub windows: u64,
-    subset: Option<Vec<u32>>,
+    /// What the distance was computed on: its active faces, their normals and the faces
+    /// around each vertex, shared with the iso lines.
+    surface: Arc<Derived>,
 }
 
 /// Computes the geodesic distance from `source` on `mesh` (or on `params.faces`), reporting
@@ -92,7 +98,21 @@ pub fn geodesic_distance(
     params: &DistanceParams,
     progress: Progress,
 ) -> Result<DistanceField, GeodesicError> {
-    let surface = Surface::new(mesh, adjacency, params.faces.as_deref())?;
+    geodesic_distance_cached(mesh, adjacency, None, source, params, progress)
+}
+
+/// [`geodesic_distance`], reusing what `cache` (the mesh's own) holds for the same faces and
+/// leaving there what it derives from the mesh (the faces around each vertex, the face
+/// normals): the same distances, without deriving them again on each call.
+pub fn geodesic_distance_cached(
+    mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
+    cache: Option<&SurfaceCache>,
+    source: &GeodesicSource,
+    params: &DistanceParams,
+    progress: Progress,
+) -> Result<DistanceField, GeodesicError> {
+    let surface = Surface::cached(mesh, adjacency, params.faces.as_deref(), cache)?;
     // Built only for sources that need snapping (points, plane sections).
     let grid = std::cell::OnceCell::new();
     let max_snap = match params.max_snap_distance {
@@ -192,7 +212,7 @@ pub fn geodesic_distance(
         max_distance,
         source_samples: resolved.sample_count(),
         windows,
-        subset: params.faces.clone(),
+        surface: surface.derived().clone(),
     })
 }
 
@@ -226,6 +246,28 @@ fn has_hole(surface: &Surface) -> bool {
 }
 
 impl DistanceField {
+    /// The surface the distance was computed on, for `mesh` (that mesh: a mesh of another
+    /// size is refused).
+    fn surface_on<'a>(
+        &self,
+        mesh: &'a TriMesh,
+        adjacency: &'a FaceAdjacency,
+    ) -> Result<Surface<'a>, GeodesicError> {
+        if !self.surface.fits(mesh, self.surface.subset())
+            || adjacency.face_count() != mesh.triangle_count()
+        {
+            return Err(GeodesicError::BadFaces(format!(
+                "this distance was computed on a mesh of {} triangles and {} vertices, not on \
+                 this one ({} and {})",
+                self.surface.counts().0,
+                self.surface.counts().1,
+                mesh.triangle_count(),
+                mesh.vertex_count()
+            )));
+        }
+        Ok(Surface::sharing(mesh, adjacency, self.surface.clone()))
+    }
+
     /// Iso-distance lines at `k · spacing`, `k = 1..=K`, in increasing level, each resampled
     /// at the point spacing. Mesh method: exact level sets of the piecewise-linear distance;
     /// voxel method: the paper's step 4.
@@ -236,7 +278,7 @@ impl DistanceField {
         params: &PathParams,
     ) -> Result<Vec<IsoLine>, GeodesicError> {
         params.validate()?;
-        let surface = Surface::new(mesh, adjacency, self.subset.as_deref())?;
+        let surface = self.surface_on(mesh, adjacency)?;
         let top = (self.max_distance / params.spacing).floor();
         if top > MAX_LEVELS as Real {
             return Err(GeodesicError::BadParam {

@@ -18,10 +18,11 @@ mod virtual_source;
 mod voxel;
 mod voxel_paths;
 
-pub use field::{geodesic_distance, DistanceField, MAX_LEVELS};
+pub use field::{geodesic_distance, geodesic_distance_cached, DistanceField, MAX_LEVELS};
 pub use iso_lines::IsoLine;
 pub use params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
 pub use source::GeodesicSource;
+pub use surface::SurfaceCache;
 pub use voxel::VoxelField;
 
 use crate::mesh::{FaceAdjacency, TriMesh};

@@ -10,27 +10,85 @@
 use super::params::GeodesicError;
 use crate::math::{Point3, Real, Vector3};
 use crate::mesh::{FaceAdjacency, TriMesh, NO_FACE};
+use std::sync::{Arc, OnceLock};
 
 /// Cells per active face at most in the closest-point grid.
 const GRID_CELLS_PER_FACE: usize = 4;
 
-/// Active faces with the derived data every method needs.
+/// Active faces with the derived data every method needs (see [`Derived`], which a surface
+/// shares with the others made from it).
 pub(crate) struct Surface<'a> {
     pub mesh: &'a TriMesh,
     pub adjacency: &'a FaceAdjacency,
+    derived: Arc<Derived>,
+}
+
+/// What a [`Surface`] derives from its mesh for one set of active faces: built once, and
+/// shared by the surfaces made from it (a [`SurfaceCache`], a distance field's iso lines).
+#[derive(Debug)]
+pub struct Derived {
+    /// The face subset it was built for (`None`: every face), and the mesh's counts.
+    subset: Option<Vec<u32>>,
+    counts: (usize, usize),
     /// `active[f]`: face `f` takes part.
-    pub active: Vec<bool>,
+    pub(crate) active: Vec<bool>,
     /// Active face ids, ascending.
-    pub faces: Vec<u32>,
+    pub(crate) faces: Vec<u32>,
     /// CSR offsets into `vertex_faces` per vertex.
     vertex_face_start: Vec<u32>,
     vertex_faces: Vec<u32>,
     /// Unit face normals of the active faces ([`Surface::face_normal`]; +z for the others).
-    pub face_normals: Vec<Vector3>,
+    pub(crate) face_normals: Vec<Vector3>,
     /// Mean active edge length.
-    pub mean_edge: Real,
+    pub(crate) mean_edge: Real,
     /// Total active area.
-    pub area: Real,
+    pub(crate) area: Real,
+    /// Per vertex, the rings to a gap in the surface and whether it lies on a hole's rim
+    /// (see `virtual_source/shadow.rs`), found by the first distance that needs them.
+    gaps: OnceLock<(Vec<u8>, Vec<bool>)>,
+}
+
+impl std::ops::Deref for Surface<'_> {
+    type Target = Derived;
+
+    fn deref(&self) -> &Derived {
+        &self.derived
+    }
+}
+
+/// What the last geodesic call on a mesh derived from it (the faces around each vertex, the
+/// face normals, the rings to a hole's rim), for the next call on the same faces (the Paths
+/// tool recomputes on one patch as its user changes the source or the spacing): one set at a
+/// time, replaced when the faces change. A cache belongs to one mesh: give it that mesh's
+/// calls only (it checks the mesh's size, not its coordinates).
+#[derive(Debug, Default)]
+pub struct SurfaceCache {
+    last: std::cell::RefCell<Option<Arc<Derived>>>,
+}
+
+impl SurfaceCache {
+    /// An empty cache.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Builds (or keeps) the data of `faces` (`None`: every face) of `mesh`, so that the next
+    /// distance on them starts at once; refuses as [`geodesic_distance`] would.
+    ///
+    /// [`geodesic_distance`]: super::geodesic_distance
+    pub fn prepare(
+        &self,
+        mesh: &TriMesh,
+        adjacency: &FaceAdjacency,
+        faces: Option<&[u32]>,
+    ) -> Result<(), GeodesicError> {
+        Surface::cached(mesh, adjacency, faces, Some(self)).map(drop)
+    }
+
+    /// Forgets what it holds (its memory is freed once no distance field shares it).
+    pub fn clear(&self) {
+        self.last.borrow_mut().take();
+    }
 }
 
 impl<'a> Surface<'a> {
@@ -38,6 +96,105 @@ impl<'a> Surface<'a> {
     pub fn new(
         mesh: &'a TriMesh,
         adjacency: &'a FaceAdjacency,
+        subset: Option<&[u32]>,
+    ) -> Result<Self, GeodesicError> {
+        Self::cached(mesh, adjacency, subset, None)
+    }
+
+    /// [`Surface::new`], reusing the data `cache` holds when it was built for the same faces
+    /// of a mesh of the same size (the cache belongs to one mesh), and leaving there what it
+    /// builds.
+    pub fn cached(
+        mesh: &'a TriMesh,
+        adjacency: &'a FaceAdjacency,
+        subset: Option<&[u32]>,
+        cache: Option<&SurfaceCache>,
+    ) -> Result<Self, GeodesicError> {
+        if let Some(cache) = cache {
+            if let Some(d) = cache.last.borrow().as_ref() {
+                if d.fits(mesh, subset) {
+                    return Ok(Self::sharing(mesh, adjacency, d.clone()));
+                }
+            }
+        }
+        let derived = Arc::new(Derived::new(mesh, adjacency, subset)?);
+        if let Some(cache) = cache {
+            *cache.last.borrow_mut() = Some(derived.clone());
+        }
+        Ok(Self::sharing(mesh, adjacency, derived))
+    }
+
+    /// The surface of `derived`, which must have been built on `mesh` (see [`Derived::fits`]).
+    pub fn sharing(mesh: &'a TriMesh, adjacency: &'a FaceAdjacency, derived: Arc<Derived>) -> Self {
+        Surface {
+            mesh,
+            adjacency,
+            derived,
+        }
+    }
+
+    /// The data it shares.
+    pub fn derived(&self) -> &Arc<Derived> {
+        &self.derived
+    }
+
+    /// Active faces around vertex `v`.
+    pub fn faces_of(&self, v: usize) -> &[u32] {
+        let (a, b) = (self.vertex_face_start[v], self.vertex_face_start[v + 1]);
+        &self.vertex_faces[a as usize..b as usize]
+    }
+
+    /// The active face across slot `k` of face `f`, if any.
+    pub fn across(&self, f: usize, k: usize) -> Option<usize> {
+        let g = self.adjacency.neighbours(f)[k];
+        (g != NO_FACE && self.active[g as usize]).then_some(g as usize)
+    }
+
+    /// A unit normal at a point of face `f`: the face normal (vertex normals are for output).
+    pub fn face_normal(&self, f: usize) -> Vector3 {
+        let n = self.mesh.scaled_normal(f);
+        let len = n.norm();
+        if len > 0.0 {
+            n / len
+        } else {
+            Vector3::z()
+        }
+    }
+
+    /// Unit area-weighted normal at vertex `v` (zero for a vertex of no active face). Found
+    /// on demand: the propagation never needs it, and few vertices are asked (the output's
+    /// tool axes, focal candidates), so no table is built.
+    pub fn vertex_normal(&self, v: usize) -> Vector3 {
+        // Summed in ascending face order, as a table built face by face would be.
+        let n = self.faces_of(v).iter().fold(Vector3::zeros(), |n, &f| {
+            n + self.mesh.scaled_normal(f as usize)
+        });
+        let len = n.norm();
+        if len > 0.0 {
+            n / len
+        } else {
+            n
+        }
+    }
+
+    /// Unit normal interpolated from the vertex normals of edge `(a, b)` at parameter `t`.
+    pub fn edge_normal(&self, a: usize, b: usize, t: Real) -> Vector3 {
+        let n = self.vertex_normal(a) * (1.0 - t) + self.vertex_normal(b) * t;
+        let len = n.norm();
+        if len > 0.0 {
+            n / len
+        } else {
+            Vector3::z()
+        }
+    }
+}
+
+impl Derived {
+    /// The data of the active faces `subset` (all when `None`) of `mesh`; refuses an empty set
+    /// or an id out of range.
+    fn new(
+        mesh: &TriMesh,
+        adjacency: &FaceAdjacency,
         subset: Option<&[u32]>,
     ) -> Result<Self, GeodesicError> {
         let nf = mesh.triangle_count();
@@ -103,9 +260,10 @@ impl<'a> Surface<'a> {
             }
         }
         vertex_face_start.pop();
-        Ok(Surface {
-            mesh,
-            adjacency,
+        Ok(Derived {
+            subset: subset.map(<[u32]>::to_vec),
+            counts: (nf, nv),
+            gaps: OnceLock::new(),
             active,
             mean_edge: edge_sum / (3 * faces.len()).max(1) as Real,
             faces,
@@ -116,54 +274,27 @@ impl<'a> Surface<'a> {
         })
     }
 
-    /// Active faces around vertex `v`.
-    pub fn faces_of(&self, v: usize) -> &[u32] {
-        let (a, b) = (self.vertex_face_start[v], self.vertex_face_start[v + 1]);
-        &self.vertex_faces[a as usize..b as usize]
+    /// The rings to a gap and the hole-rim flags per vertex (see [`Derived::gaps`]), made by
+    /// `make` the first time.
+    pub(crate) fn gaps(&self, make: impl FnOnce() -> (Vec<u8>, Vec<bool>)) -> (&[u8], &[bool]) {
+        let (rings, rim) = self.gaps.get_or_init(make);
+        (rings, rim)
     }
 
-    /// The active face across slot `k` of face `f`, if any.
-    pub fn across(&self, f: usize, k: usize) -> Option<usize> {
-        let g = self.adjacency.neighbours(f)[k];
-        (g != NO_FACE && self.active[g as usize]).then_some(g as usize)
+    /// The face subset it was built for (`None`: every face).
+    pub(crate) fn subset(&self) -> Option<&[u32]> {
+        self.subset.as_deref()
     }
 
-    /// A unit normal at a point of face `f`: the face normal (vertex normals are for output).
-    pub fn face_normal(&self, f: usize) -> Vector3 {
-        let n = self.mesh.scaled_normal(f);
-        let len = n.norm();
-        if len > 0.0 {
-            n / len
-        } else {
-            Vector3::z()
-        }
+    /// The triangle and vertex counts of the mesh it was built on.
+    pub(crate) fn counts(&self) -> (usize, usize) {
+        self.counts
     }
 
-    /// Unit area-weighted normal at vertex `v` (zero for a vertex of no active face). Found
-    /// on demand: the propagation never needs it, and few vertices are asked (the output's
-    /// tool axes, focal candidates), so no table is built.
-    pub fn vertex_normal(&self, v: usize) -> Vector3 {
-        // Summed in ascending face order, as a table built face by face would be.
-        let n = self.faces_of(v).iter().fold(Vector3::zeros(), |n, &f| {
-            n + self.mesh.scaled_normal(f as usize)
-        });
-        let len = n.norm();
-        if len > 0.0 {
-            n / len
-        } else {
-            n
-        }
-    }
-
-    /// Unit normal interpolated from the vertex normals of edge `(a, b)` at parameter `t`.
-    pub fn edge_normal(&self, a: usize, b: usize, t: Real) -> Vector3 {
-        let n = self.vertex_normal(a) * (1.0 - t) + self.vertex_normal(b) * t;
-        let len = n.norm();
-        if len > 0.0 {
-            n / len
-        } else {
-            Vector3::z()
-        }
+    /// Whether it was built for the faces `subset` of a mesh the size of `mesh`.
+    pub(crate) fn fits(&self, mesh: &TriMesh, subset: Option<&[u32]>) -> bool {
+        self.counts == (mesh.triangle_count(), mesh.vertex_count())
+            && self.subset.as_deref() == subset
     }
 }
 

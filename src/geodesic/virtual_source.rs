@@ -338,7 +338,7 @@ pub(super) struct Solver<'a> {
     /// Per vertex, the rings between it and a reflex vertex of the boundary (where the
     /// surface has a gap), near which offers are walked back (see `shadow.rs`); empty on a
     /// surface with none and in the focal patches.
-    gap_rings: Vec<u8>,
+    gap_rings: &'a [u8],
     /// Per vertex, the vertex of a hole's rim its path bent at last ([`shadow::NO_RIM`] for
     /// none): where a point source's offer and the crossed edge's other end differ here, the
     /// offer is walked back all the way (see `shadow.rs`); empty until a path bends at one.
@@ -347,7 +347,7 @@ pub(super) struct Solver<'a> {
     long_walks: std::cell::Cell<usize>,
     /// Per vertex, whether it lies on the rim of a hole; empty where [`Self::gap_rings`] is
     /// or no boundary loop turns as a hole's rim does.
-    hole_rim: Vec<bool>,
+    hole_rim: &'a [bool],
     /// Scratch of [`Self::up_the_rim`]: the paths leaving the rim further back, their
     /// distance and the rim vertex each bends at.
     rim_chain: Vec<(Real, Virtual, u32)>,
@@ -378,10 +378,10 @@ impl<'a> Solver<'a> {
             origins: Vec::new(),
             piece: Vec::new(),
             pieces: Vec::new(),
-            gap_rings: Vec::new(),
+            gap_rings: &[],
             rim: Vec::new(),
             long_walks: std::cell::Cell::new(shadow::LONG_WALK_FACES * surface.faces.len()),
-            hole_rim: Vec::new(),
+            hole_rim: &[],
             rim_chain: Vec::new(),
             rim_walks: std::cell::Cell::new(
                 (shadow::LONG_WALK_FACES * surface.faces.len()).max(shadow::LONG_WALK),
@@ -808,10 +808,17 @@ pub(crate) fn propagate(
     }
     let mut s = Solver::new(surface);
     // Not in the focal patches below: their borders are cuts, not gaps.
-    s.gap_rings = shadow::rings_to_a_gap(surface);
-    if !s.gap_rings.is_empty() {
-        s.hole_rim = shadow::on_hole_rims(surface);
-    }
+    // Found once per surface (they do not depend on the source) and kept with it.
+    let (rings, hole_rim) = surface.gaps(|| {
+        let rings = shadow::rings_to_a_gap(surface);
+        let hole_rim = if rings.is_empty() {
+            Vec::new()
+        } else {
+            shadow::on_hole_rims(surface)
+        };
+        (rings, hole_rim)
+    });
+    (s.gap_rings, s.hole_rim) = (rings, hole_rim);
     if source.curves.is_empty() {
         s.origin = vec![0; nv];
         s.origins = source.vertices.iter().map(|&v| pos[v as usize]).collect();

@@ -8,7 +8,8 @@ use super::params::{integer, read_callback, read_index_list, read_number_list, P
 use super::progress_fn;
 use super::toolpath::ToolPathHandle;
 use crate::geodesic::{
-    geodesic_distance, DistanceParams, GeodesicSource, LinkOrder, Method, PathParams,
+    geodesic_distance_cached, DistanceParams, GeodesicSource, LinkOrder, Method, PathParams,
+    SurfaceCache,
 };
 use crate::math::{Point3, Vector3};
 use crate::mesh::ImportedMesh;
@@ -285,6 +286,7 @@ fn path_params_from_js(spacing: &JsValue, opts: &JsValue) -> Result<PathParams, 
 /// Computes the field: the `Mesh.geodesicDistance` binding.
 pub(crate) fn distance_field(
     mesh: &Rc<ImportedMesh>,
+    surfaces: &SurfaceCache,
     source: &JsValue,
     params: &JsValue,
     on_progress: Option<JsValue>,
@@ -307,9 +309,10 @@ pub(crate) fn distance_field(
         }
         _ => {}
     }
-    let field = geodesic_distance(
+    let field = geodesic_distance_cached(
         &mesh.mesh,
         &mesh.adjacency,
+        Some(surfaces),
         &source.source,
         &params,
         &mut progress_fn(on_progress),
@@ -318,6 +321,17 @@ pub(crate) fn distance_field(
         mesh: mesh.clone(),
         inner: field,
     })
+}
+
+/// `mesh.prepareGeodesic(params)`: derives and keeps what a distance on `params.faces` needs.
+pub(crate) fn prepare(
+    mesh: &ImportedMesh,
+    surfaces: &SurfaceCache,
+    params: &JsValue,
+) -> Result<(), JsError> {
+    let params = params_from_js(params)?;
+    surfaces.prepare(&mesh.mesh, &mesh.adjacency, params.faces.as_deref())?;
+    Ok(())
 }
 
 /// Geodesic distance from a source over the mesh (or a patch), by the method it names.

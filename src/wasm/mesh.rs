@@ -3,6 +3,7 @@
 use super::index::{hit_to_js, index_of, read_ray, SharedIndex};
 use super::params::{byte_array, copy_bytes, integer, read_callback, read_index_list};
 use super::{progress_fn, DistanceField, Segmentation, SprayPlan};
+use crate::geodesic::SurfaceCache;
 use crate::math::Real;
 use crate::mesh::{
     prepare_mesh, read_stl_with_progress, FaceGroups, ImportedMesh, StlImport, StlStream,
@@ -119,6 +120,7 @@ impl StlReader {
         Ok(Mesh {
             inner: Rc::new(imported),
             index: SharedIndex::default(),
+            surfaces: SurfaceCache::new(),
         })
     }
 }
@@ -135,6 +137,8 @@ pub struct Mesh {
     pub(super) inner: Rc<ImportedMesh>,
     /// Ray-cast and closest-point index, built by the first query that needs it.
     pub(super) index: SharedIndex,
+    /// What the last geodesic distance derived from the mesh for its faces, for the next.
+    pub(super) surfaces: SurfaceCache,
 }
 
 #[wasm_bindgen]
@@ -159,6 +163,7 @@ impl Mesh {
         Ok(Mesh {
             inner: Rc::new(imported),
             index: SharedIndex::default(),
+            surfaces: SurfaceCache::new(),
         })
     }
 
@@ -277,6 +282,19 @@ impl Mesh {
         #[wasm_bindgen(js_name = onProgress, unchecked_optional_param_type = "ProgressCallback")]
         on_progress: Option<JsValue>,
     ) -> Result<DistanceField, JsError> {
-        super::geodesic::distance_field(&self.inner, &source, &params, on_progress)
+        super::geodesic::distance_field(&self.inner, &self.surfaces, &source, &params, on_progress)
+    }
+
+    /// Derives from the mesh what a geodesic distance with `params` (its `faces`, see
+    /// `GeodesicParams`) needs before it starts (the faces around each vertex, the face
+    /// normals), and keeps it for the distances on those faces: the Paths tool asks when it is
+    /// opened, so that its first distance starts at once. Throws an `Error` naming a bad
+    /// parameter.
+    #[wasm_bindgen(js_name = prepareGeodesic)]
+    pub fn prepare_geodesic(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "GeodesicParams")] params: JsValue,
+    ) -> Result<(), JsError> {
+        super::geodesic::prepare(&self.inner, &self.surfaces, &params)
     }
 }

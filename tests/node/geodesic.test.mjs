@@ -271,6 +271,46 @@ test('vertices, boundary loops, patches and plane sections as sources', () => {
   line.free();
 });
 
+test('prepareGeodesic keeps what a distance derives from the mesh: the same distances and passes after it', () => {
+  // A fresh mesh of the same file for the distances without anything kept.
+  const fresh = Mesh.fromStl(cylinderStl(R, 120, N, 24));
+  const kept = Mesh.fromStl(cylinderStl(R, 120, N, 24));
+  const idx = kept.indices();
+  const pos = kept.positions();
+  const lower = [];
+  for (let f = 0; f < kept.triangleCount; f++) {
+    if (Math.max(...[0, 1, 2].map((k) => pos[3 * idx[3 * f + k] + 2])) <= 60) lower.push(f);
+  }
+  try {
+    assert.equal(kept.prepareGeodesic(), undefined);
+    const cases = [
+      [{ boundaryOf: 'mesh' }, {}],
+      [{ plane: { point: [R, 0, 30], normal: [0, 0, 1] } }, { method: 'fast' }],
+      [{ boundaryOf: 3 }, { faces: lower }],
+      [{ vertices: [0] }, {}],
+    ];
+    for (const [source, params] of [...cases, ...cases]) {
+      const [a, b] = [fresh, kept].map((m) => m.geodesicDistance(source, params));
+      assert.deepEqual(b.vertexDistance(), a.vertexDistance(), JSON.stringify(source));
+      assert.deepEqual(b.isoPaths(10).map((p) => [...p.points]), a.isoPaths(10).map((p) => [...p.points]));
+      a.free();
+      b.free();
+    }
+    kept.prepareGeodesic({ faces: new Uint32Array(lower) });
+    refuses(() => kept.prepareGeodesic({ faces: [kept.triangleCount] }), /face \d+ does not exist/);
+    refuses(() => kept.prepareGeodesic({ faces: [] }), /faces is empty/);
+    refuses(() => kept.prepareGeodesic({ face: [0] }), /face/);
+    // Still the same distances after the refusals.
+    const [a, b] = [fresh, kept].map((m) => m.geodesicDistance({ boundaryOf: 'mesh' }));
+    assert.deepEqual(b.vertexDistance(), a.vertexDistance());
+    a.free();
+    b.free();
+  } finally {
+    fresh.free();
+    kept.free();
+  }
+});
+
 test('toolPath: a ToolPath with flat arrays and the robot exports', () => {
   const field = mesh.geodesicDistance(ringSource);
   const path = field.toolPath(10, { order: 'oneWay', pointSpacing: 5, speed: 20, linkSpeed: 200 });
@@ -314,7 +354,7 @@ test('the TypeScript declarations name the new API', () => {
   const dts = readFileSync(join(pkg, 'skinpath.d.ts'), 'utf8');
   for (const name of ['export class DistanceField', 'export class ToolPath', 'export type GeodesicSource',
     'export interface GeodesicParams', 'export interface GeodesicPathOptions', 'export interface IsoPath',
-    'geodesicDistance(source: GeodesicSource, params?: GeodesicParams', 'isoPaths(spacing: number | null, opts?: GeodesicPathOptions): IsoPath[]',
+    'geodesicDistance(source: GeodesicSource, params?: GeodesicParams', 'prepareGeodesic(params?: GeodesicParams): void', 'isoPaths(spacing: number | null, opts?: GeodesicPathOptions): IsoPath[]',
     'toolPath(spacing: number | null, opts?: GeodesicPathOptions): ToolPath', 'readonly maxDistance: number',
     'readonly method: string', 'vertexDistance(): Float64Array', 'voxelCenters(): Float32Array',
     'voxelDistance(): Float32Array', 'kinds(): Uint8Array', 'passOf(): Uint32Array']) {

@@ -16,7 +16,7 @@ export const doing = {
 
 let field = null; // DistanceField of the result on screen
 let pathSpec = null; // { spacing, pathOptions } it was cut with
-let prepared = false; // whether the memory of the model's first distance is reserved
+let prepared = false; // whether the model's first distance is prepared (its surface, its memory)
 
 export function onMeshChanged() {
   field?.free();
@@ -63,11 +63,15 @@ function boxCentre(ctx) {
 
 export const ops = {
   /**
-   * {} → { reserved, memoryBytes }: grows the engine's memory by what the model's first
+   * {} → { reserved, memoryBytes }: derives what a distance on the whole model needs from the
+   * mesh (mesh.prepareGeodesic) and grows the engine's memory by what the model's first
    * accurate distance will take (see warm-up.js), once per model; the tool asks when it is
    * opened.
    */
   prepare(ctx) {
+    // What the first distance on the whole model derives from the mesh (the faces around
+    // each vertex, the face normals), then the memory the distance itself will take.
+    if (!prepared) ctx.mesh.prepareGeodesic();
     const reserved = prepared || reserveFirstDistance(reserveMemory, ctx.mesh.triangleCount);
     prepared = true;
     return [{ reserved, memoryBytes: ctx.memoryBytes() }, []];
