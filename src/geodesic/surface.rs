@@ -1,6 +1,10 @@
 //! The part of a mesh the geodesic module works on: the active faces (all, or a patch), the
 //! faces around each vertex, face and vertex normals, and a uniform grid for closest-point queries.
 //!
+//! What a surface derives from its mesh is shared (an `Arc`) by the surfaces made from it: a
+//! mesh's [`SurfaceCache`] keeps it for the next distance on the same faces, and a distance
+//! field for its iso lines.
+//!
 //! No paper for the grid: faces are binned by bounding box into cubic cells of about two mean
 //! edge lengths (grown so there are at most 4 cells a face), and a query scans rings of cells
 //! around the point until the ring's distance exceeds the best hit (Ericson, "Real-Time
@@ -116,6 +120,9 @@ impl<'a> Surface<'a> {
                     return Ok(Self::sharing(mesh, adjacency, d.clone()));
                 }
             }
+            // Let the old set go first (freed now unless a distance field holds it), so the
+            // two are not held at once.
+            cache.clear();
         }
         let derived = Arc::new(Derived::new(mesh, adjacency, subset)?);
         if let Some(cache) = cache {
