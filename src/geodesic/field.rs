@@ -246,28 +246,6 @@ fn has_hole(surface: &Surface) -> bool {
 }
 
 impl DistanceField {
-    /// The surface the distance was computed on, for `mesh` (that mesh: a mesh of another
-    /// size is refused).
-    fn surface_on<'a>(
-        &self,
-        mesh: &'a TriMesh,
-        adjacency: &'a FaceAdjacency,
-    ) -> Result<Surface<'a>, GeodesicError> {
-        if !self.surface.fits(mesh, self.surface.subset())
-            || adjacency.face_count() != mesh.triangle_count()
-        {
-            return Err(GeodesicError::BadFaces(format!(
-                "this distance was computed on a mesh of {} triangles and {} vertices, not on \
-                 this one ({} and {})",
-                self.surface.counts().0,
-                self.surface.counts().1,
-                mesh.triangle_count(),
-                mesh.vertex_count()
-            )));
-        }
-        Ok(Surface::sharing(mesh, adjacency, self.surface.clone()))
-    }
-
     /// Iso-distance lines at `k · spacing`, `k = 1..=K`, in increasing level, each resampled
     /// at the point spacing. Mesh method: exact level sets of the piecewise-linear distance;
     /// voxel method: the paper's step 4.
@@ -278,7 +256,7 @@ impl DistanceField {
         params: &PathParams,
     ) -> Result<Vec<IsoLine>, GeodesicError> {
         params.validate()?;
-        let surface = self.surface_on(mesh, adjacency)?;
+        let surface = Surface::sharing(mesh, adjacency, self.surface.clone())?;
         let top = (self.max_distance / params.spacing).floor();
         if top > MAX_LEVELS as Real {
             return Err(GeodesicError::BadParam {

@@ -117,7 +117,7 @@ impl<'a> Surface<'a> {
         if let Some(cache) = cache {
             if let Some(d) = cache.last.borrow().as_ref() {
                 if d.fits(mesh, subset) {
-                    return Ok(Self::sharing(mesh, adjacency, d.clone()));
+                    return Self::sharing(mesh, adjacency, d.clone());
                 }
             }
             // Let the old set go first (freed now unless a distance field holds it), so the
@@ -128,16 +128,31 @@ impl<'a> Surface<'a> {
         if let Some(cache) = cache {
             *cache.last.borrow_mut() = Some(derived.clone());
         }
-        Ok(Self::sharing(mesh, adjacency, derived))
+        Self::sharing(mesh, adjacency, derived)
     }
 
-    /// The surface of `derived`, which must have been built on `mesh` (see [`Derived::fits`]).
-    pub fn sharing(mesh: &'a TriMesh, adjacency: &'a FaceAdjacency, derived: Arc<Derived>) -> Self {
-        Surface {
+    /// The surface of `derived` on `mesh`, which it must have been built on: refused for an
+    /// adjacency that is not the mesh's or a mesh of another size than it was built on.
+    pub fn sharing(
+        mesh: &'a TriMesh,
+        adjacency: &'a FaceAdjacency,
+        derived: Arc<Derived>,
+    ) -> Result<Self, GeodesicError> {
+        check_adjacency(mesh, adjacency)?;
+        let (faces, vertices) = derived.counts;
+        if (faces, vertices) != (mesh.triangle_count(), mesh.vertex_count()) {
+            return Err(GeodesicError::BadFaces(format!(
+                "this distance was computed on a mesh of {faces} triangles and {vertices} \
+                 vertices, not on this one ({} and {})",
+                mesh.triangle_count(),
+                mesh.vertex_count()
+            )));
+        }
+        Ok(Surface {
             mesh,
             adjacency,
             derived,
-        }
+        })
     }
 
     /// The data it shares.
@@ -204,13 +219,8 @@ impl Derived {
         adjacency: &FaceAdjacency,
         subset: Option<&[u32]>,
     ) -> Result<Self, GeodesicError> {
+        check_adjacency(mesh, adjacency)?;
         let nf = mesh.triangle_count();
-        if adjacency.face_count() != nf {
-            return Err(GeodesicError::BadFaces(format!(
-                "the adjacency has {} faces but the mesh {nf}",
-                adjacency.face_count()
-            )));
-        }
         let mut active = vec![subset.is_none(); nf];
         if let Some(set) = subset {
             if set.is_empty() {
@@ -288,21 +298,23 @@ impl Derived {
         (rings, rim)
     }
 
-    /// The face subset it was built for (`None`: every face).
-    pub(crate) fn subset(&self) -> Option<&[u32]> {
-        self.subset.as_deref()
-    }
-
-    /// The triangle and vertex counts of the mesh it was built on.
-    pub(crate) fn counts(&self) -> (usize, usize) {
-        self.counts
-    }
-
     /// Whether it was built for the faces `subset` of a mesh the size of `mesh`.
-    pub(crate) fn fits(&self, mesh: &TriMesh, subset: Option<&[u32]>) -> bool {
+    fn fits(&self, mesh: &TriMesh, subset: Option<&[u32]>) -> bool {
         self.counts == (mesh.triangle_count(), mesh.vertex_count())
             && self.subset.as_deref() == subset
     }
+}
+
+/// Refuses an adjacency that is not the mesh's (another face count).
+fn check_adjacency(mesh: &TriMesh, adjacency: &FaceAdjacency) -> Result<(), GeodesicError> {
+    if adjacency.face_count() != mesh.triangle_count() {
+        return Err(GeodesicError::BadFaces(format!(
+            "the adjacency has {} faces but the mesh {}",
+            adjacency.face_count(),
+            mesh.triangle_count()
+        )));
+    }
+    Ok(())
 }
 
 /// Uniform grid of active faces for closest-point queries.
