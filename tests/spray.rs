@@ -9,9 +9,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use common::{binary_stl, import, Tri};
 use skinpath::mesh::ImportedMesh;
 use skinpath::spray::{
-    deposit, optimise_speeds, patch_frame, plan_spray, ripple, split_long_moves, PointGrid,
-    QualityLimits, SpeedLimits, SprayError, SprayModel, SprayParams, SprayPlan,
-    COARSE_RESOLUTION_RATIO, FALLBACK_MARGIN, REFINE_TOLERANCE,
+    deposit, optimise_speeds, patch_frame, plan_spray, plan_spray_cached, ripple, split_long_moves,
+    PointGrid, QualityLimits, SampleCache, SpeedLimits, SprayError, SprayModel, SprayParams,
+    SprayPlan, COARSE_RESOLUTION_RATIO, FALLBACK_MARGIN, REFINE_TOLERANCE,
 };
 use skinpath::toolpath::PoseKind;
 use std::f64::consts::PI;
@@ -827,6 +827,91 @@ fn optimised_speeds_even_out_a_curved_panel_within_the_limits() {
         })
         .sum();
     assert_near!(after.cycle_time, time, 1e-9 * time);
+}
+
+/// Plans on the samples a cache keeps are the plans made without it, to the bit, as a user
+/// changes the spacing, the speeds, the limits, the direction, the faces, the resolution
+/// and the footprint in turn, and after a refused plan; the cache holds the last faces'.
+#[test]
+fn plans_on_kept_samples_are_the_plans_made_afresh() {
+    let m = cylinder_panel(300.0, PI / 5.0, 400.0, 24, 8);
+    let all: Vec<u32> = (0..m.mesh.triangle_count() as u32).collect();
+    let half: Vec<u32> = all[..all.len() / 2].to_vec();
+    let mut p = params(40.0);
+    p.optimise_speed = true;
+    p.min_speed = Some(50.0);
+    p.max_speed = Some(200.0);
+    let limits = QualityLimits {
+        max_error: Some(0.3),
+        min_spacing: Some(20.0),
+        max_spacing: Some(90.0),
+        ..QualityLimits::default()
+    };
+    // Each step changes one thing from the one before; the plate finer than the resolution
+    // has a speed optimiser's set of samples.
+    let fine = plate(300.0, 250.0, 90, 75);
+    let fine_faces: Vec<u32> = (0..fine.mesh.triangle_count() as u32).collect();
+    let mut steps: Vec<(&str, &ImportedMesh, &[u32], SprayParams)> = Vec::new();
+    let mut q = p;
+    steps.push(("a plan", &m, &all, q));
+    q.spacing = 30.0;
+    steps.push(("another spacing", &m, &all, q));
+    q.speed = 80.0;
+    steps.push(("another speed", &m, &all, q));
+    q.quality = Some(limits);
+    steps.push(("a search", &m, &all, q));
+    q.raster_angle = 0.5;
+    steps.push(("a search turned", &m, &all, q));
+    steps.push(("half the faces", &m, &half, q));
+    q.edge_exclusion = Some(5.0);
+    steps.push(("another edge band", &m, &half, q));
+    q.standoff = 1.5 * H;
+    steps.push(("another footprint", &m, &half, q));
+    q.resolution = Some(R / 3.0);
+    steps.push(("another resolution", &m, &half, q));
+    q.spacing = -1.0;
+    steps.push(("a refused spacing", &m, &half, q));
+    q = p;
+    steps.push(("the whole again", &m, &all, q));
+    q.optimise_speed = false;
+    steps.push(("another mesh", &fine, &fine_faces, q));
+    q.optimise_speed = true;
+    steps.push(("speeds optimised", &fine, &fine_faces, q));
+    let cache = SampleCache::new();
+    for (what, m, faces, q) in steps {
+        let afresh = plan_spray(
+            &m.mesh,
+            &m.adjacency,
+            &m.geometry,
+            faces,
+            &q,
+            &mut |_, _| {},
+        );
+        let kept = plan_spray_cached(
+            &m.mesh,
+            &m.adjacency,
+            &m.geometry,
+            faces,
+            &q,
+            Some(&cache),
+            &mut |_, _| {},
+        );
+        // Debug prints every number to the bit (−0 and NaN included).
+        assert!(
+            format!("{kept:?}") == format!("{afresh:?}"),
+            "{what}: the plan on kept samples differs"
+        );
+        match afresh {
+            Ok(plan) => assert_eq!(
+                cache.kept_samples(),
+                Some(plan.samples.positions.len()),
+                "{what}"
+            ),
+            Err(e) => assert!(matches!(e, SprayError::OutOfRange { .. }), "{what}: {e}"),
+        }
+    }
+    cache.clear();
+    assert_eq!(cache.kept_samples(), None);
 }
 
 /// A plate meshed finer than the resolution: its vertices are the samples, the speed

@@ -30,15 +30,15 @@ pub use params::{
     QualityLimits, Resolved, SprayError, SprayParams, MAX_PLANES, MAX_SAMPLES, MAX_TIME_SAMPLES,
 };
 pub use plan::{
-    cycle_time, plan_spray, DirectionTrial, Hotspot, HotspotCause, SprayPlan, MAX_HOTSPOTS,
-    TARGET_TOLERANCE,
+    cycle_time, plan_spray, plan_spray_cached, DirectionTrial, Hotspot, HotspotCause, SprayPlan,
+    MAX_HOTSPOTS, TARGET_TOLERANCE,
 };
 pub use quality::{evaluate_quality, interior_mask, thickness_stats, Quality, ThicknessStats};
 pub use raster::{
     order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass, ARC_BINS, MAX_STRETCH,
 };
 pub use samples::{fit_resolution, sample_faces, EvaluationSamples};
-pub use sampling::COARSE_RESOLUTION_RATIO;
+pub use sampling::{SampleCache, COARSE_RESOLUTION_RATIO};
 pub use search::{
     ripple, search_spacing, Fidelity, Iteration, Limits, SpacingChoice, COARSE_STEPS,
     FALLBACK_MARGIN, PREDICTED_WINDOWS, PREDICTION_STEPS, REFINE_STEPS, REFINE_TOLERANCE,

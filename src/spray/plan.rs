@@ -6,7 +6,8 @@
 //! Output: [`SprayPlan`]: the tool path with its speeds, evaluation samples with their
 //!         thickness, quality, every spacing tried, the worst regions and what would help.
 //! Cost:   samples and their grids once ([`sample_sets`]: the full samples, the search's
-//!         screening samples, the speed optimiser's); per spacing tried O(F + S log S) for
+//!         screening samples, the speed optimiser's), or not at all when a [`SampleCache`]
+//!         holds them from the plan before ([`plan_spray_cached`]); per spacing tried O(F + S log S) for
 //!         the raster, O(time samples × points per cone) for the deposition and, with speed
 //!         optimisation, the coating matrix and its sweeps ([`optimise_speeds`]).
 //! Deviations: the patent keeps the speed constant; here, by default, the speed of each short
@@ -22,7 +23,7 @@ use super::params::{SprayError, SprayParams};
 use super::quality::{evaluate_quality, interior_mask, Quality, ThicknessStats};
 use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame};
 use super::samples::{fit_resolution, EvaluationSamples};
-use super::sampling::{sample_sets, Sampling};
+use super::sampling::{sample_sets, SampleCache, Sampling};
 use super::search::{ripple, search_spacing, Fidelity, Iteration, Limits, FALLBACK_MARGIN};
 use super::speed::{optimise_speeds, SpeedLimits};
 use super::trajectory::{build_trajectory, TrajectoryCounts, TURN_ON_RADIUS_RATIO};
@@ -149,9 +150,9 @@ struct Setup<'a> {
     adjacency: &'a FaceAdjacency,
     geometry: &'a FaceGeometry,
     params: &'a SprayParams,
-    full: Sampling,
+    full: &'a Sampling,
     /// Samples at twice the resolution, when markedly fewer: the search screens on them.
-    coarse: Option<Sampling>,
+    coarse: Option<&'a Sampling>,
     model: SprayModel,
     extension: Real,
     time_step: Real,
@@ -219,7 +220,7 @@ impl Setup<'_> {
                 // A screening asks only whether the limits are met (excess below 1): it
                 // stops reweighting at the first round that meets them. The plans the
                 // search may deliver (full samples) get every round.
-                match (&self.limits, std::ptr::eq(sampling, &self.full)) {
+                match (&self.limits, std::ptr::eq(sampling, self.full)) {
                     (Some(_), false) => 1.0,
                     _ => Real::NEG_INFINITY,
                 },
@@ -304,6 +305,21 @@ pub fn plan_spray(
     params: &SprayParams,
     progress: &mut dyn FnMut(&str, f64),
 ) -> Result<SprayPlan, SprayError> {
+    plan_spray_cached(mesh, adjacency, geometry, faces, params, None, progress)
+}
+
+/// [`plan_spray`], on the evaluation samples `cache` keeps when they were made for the same
+/// faces of the mesh at the same resolution, footprint and edge exclusion, leaving there
+/// those it makes (the cache belongs to one mesh). The same plan to the bit.
+pub fn plan_spray_cached(
+    mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
+    geometry: &FaceGeometry,
+    faces: &[u32],
+    params: &SprayParams,
+    cache: Option<&SampleCache>,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<SprayPlan, SprayError> {
     let mut resolved = params.validate()?;
     let frame = patch_frame(
         mesh,
@@ -320,7 +336,7 @@ pub fn plan_spray(
     if let Some(budget) = params.sample_budget {
         resolved.resolution = fit_resolution(mesh, &frame.faces, resolved.resolution, budget);
     }
-    let (full, coarse) = sample_sets(
+    let sets = sample_sets(
         mesh,
         adjacency,
         geometry,
@@ -328,6 +344,7 @@ pub fn plan_spray(
         &resolved,
         params.has_limits(),
         params.optimise_speed,
+        cache,
     )?;
     progress("spray samples", 1.0);
     let limits = params
@@ -342,8 +359,8 @@ pub fn plan_spray(
         adjacency,
         geometry,
         params,
-        full,
-        coarse,
+        full: &sets.full,
+        coarse: sets.coarse(),
         model: SprayModel {
             radius: resolved.radius,
             peak_rate: resolved.peak_rate,
@@ -357,7 +374,7 @@ pub fn plan_spray(
         },
         limits,
     };
-    let coarse = setup.coarse.as_ref().filter(|_| params.has_limits());
+    let coarse = setup.coarse.filter(|_| params.has_limits());
     let mut messages = Vec::new();
     let mut kept: Option<(Real, Evaluation)> = None;
     let (spacing, iterations) = match (limits, params.quality) {
@@ -376,11 +393,11 @@ pub fn plan_spray(
                 &mut |b, fidelity| {
                     let sampling = match (fidelity, coarse) {
                         (Fidelity::Coarse, Some(c)) => c,
-                        _ => &setup.full,
+                        _ => setup.full,
                     };
                     let r = setup.evaluate(&frame, b, sampling)?;
                     let stats = r.quality.interior;
-                    let full = std::ptr::eq(sampling, &setup.full);
+                    let full = std::ptr::eq(sampling, setup.full);
                     let better = kept.as_ref().is_none_or(|(k, e)| {
                         limits.met(&stats) && (!limits.met(&e.quality.interior) || b > *k)
                     });
@@ -404,7 +421,7 @@ pub fn plan_spray(
     progress("spray plan", 0.0);
     let chosen = match kept {
         Some((b, evaluation)) if b == spacing => evaluation,
-        _ => setup.evaluate(&frame, spacing, &setup.full)?,
+        _ => setup.evaluate(&frame, spacing, setup.full)?,
     };
     // Other pass directions at the chosen spacing.
     let mut raster_angle = params.raster_angle;
@@ -416,7 +433,7 @@ pub fn plan_spray(
         for turn in [2.0 * quarter, quarter, -quarter] {
             let angle = params.raster_angle + turn;
             let other = patch_frame(mesh, geometry, faces, resolved.direction, angle)
-                .and_then(|f| setup.evaluate(&f, spacing, &setup.full));
+                .and_then(|f| setup.evaluate(&f, spacing, setup.full));
             let Ok(other) = other else {
                 trials.push(DirectionTrial {
                     raster_angle: angle,
@@ -555,9 +572,9 @@ pub fn plan_spray(
         pass_count,
         counts,
         resolution: setup.full.resolution,
-        samples: setup.full.samples,
+        samples: setup.full.samples.clone(),
         thickness,
-        interior: setup.full.interior,
+        interior: setup.full.interior.clone(),
         quality,
         iterations,
         limits_met,
@@ -605,7 +622,7 @@ fn hotspots(
     if mean <= 0.0 {
         return Vec::new();
     }
-    let sampling = &setup.full;
+    let sampling = setup.full;
     let radius = setup.model.radius;
     let any_interior = sampling.interior.iter().any(|&i| i);
     let deviation = |i: usize| (thickness[i] - mean) / mean;

@@ -3,7 +3,8 @@
 //!
 //! Source: no paper (the patent evaluates the coating on the surface without saying where).
 //! Input:  mesh, adjacency, face geometry, the patch frame, the resolved parameters.
-//! Output: [`Sampling`]s: samples stored cell by cell, their grid and interior mask.
+//! Output: [`SampleSets`]: [`Sampling`]s of samples stored cell by cell, their grid and
+//!         interior mask.
 //! Cost:   the full samples and their grid once; with quality limits, a second set at
 //!         [`COARSE_RESOLUTION_RATIO`] times the resolution serves the search's screening
 //!         when it has at most half the samples (on a mesh finer than the resolution, the
@@ -13,6 +14,9 @@
 //!         footprint). On a mesh finer than the resolution the speed optimiser also solves on
 //!         the full samples thinned to one per cube of the resolution, and the speeds found
 //!         are then deposited on all of them: the figures are always those of every sample.
+//!         A [`SampleCache`] keeps the sets of the last plan (the screening set added by the
+//!         first search): the next plan on the same faces of the same mesh at the same
+//!         resolution, footprint and edge band takes them as they are.
 //! Deviations: none (no paper).
 
 use super::grid::PointGrid;
@@ -22,6 +26,8 @@ use super::raster::PatchFrame;
 use super::samples::{sample_faces, subdivides, EvaluationSamples};
 use crate::math::Real;
 use crate::mesh::{FaceAdjacency, FaceGeometry, TriMesh};
+use std::cell::RefCell;
+use std::sync::{Arc, OnceLock};
 
 /// Cell size of the evaluation-sample grid as a fraction of `R`: small enough that a cone's
 /// box visits few points outside the cone, large enough that it visits few empty cells.
@@ -156,8 +162,169 @@ impl Sampling {
     }
 }
 
+/// What the sample sets depend on: the mesh (its size: a cache belongs to one mesh), the
+/// faces, the resolution, the footprint radius (the grid's cells), the edge exclusion (the
+/// interior mask) and whether the speed optimiser's set is made. Numbers compare bit for bit.
+#[derive(Debug, Clone, PartialEq)]
+struct SampleKey {
+    vertices: usize,
+    triangles: usize,
+    faces: Vec<u32>,
+    numbers: [u64; 3],
+    optimise_speed: bool,
+}
+
+impl SampleKey {
+    fn new(mesh: &TriMesh, frame: &PatchFrame, resolved: &Resolved, optimise_speed: bool) -> Self {
+        Self {
+            vertices: mesh.vertex_count(),
+            triangles: mesh.triangle_count(),
+            faces: frame.faces.clone(),
+            numbers: [
+                resolved.resolution,
+                resolved.radius,
+                resolved.edge_exclusion,
+            ]
+            .map(Real::to_bits),
+            optimise_speed,
+        }
+    }
+}
+
+/// The sample sets of a plan: the full samples (with the speed optimiser's, when asked) and
+/// the spacing search's screening set, made by the first plan that searches.
+pub(super) struct SampleSets {
+    key: SampleKey,
+    pub(super) full: Sampling,
+    coarse: OnceLock<Option<Sampling>>,
+}
+
+impl SampleSets {
+    /// The screening set, once made (`None` also when it would not be markedly fewer).
+    pub(super) fn coarse(&self) -> Option<&Sampling> {
+        self.coarse.get().and_then(Option::as_ref)
+    }
+}
+
+/// The sample sets of the last plan, kept for the next plan on the same faces at the same
+/// resolution: a user changing the spacing, the speeds, the quality limits or the pass
+/// direction plans again on the same samples. One set at a time; [`plan_spray_cached`]
+/// replaces it when the faces, the resolution, the footprint or the edge exclusion change.
+///
+/// [`plan_spray_cached`]: super::plan_spray_cached
+#[derive(Default)]
+pub struct SampleCache {
+    last: RefCell<Option<Arc<SampleSets>>>,
+}
+
+impl std::fmt::Debug for SampleCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let kept = self.last.borrow();
+        f.debug_struct("SampleCache")
+            .field(
+                "samples",
+                &kept.as_ref().map(|s| s.full.samples.positions.len()),
+            )
+            .finish()
+    }
+}
+
+impl SampleCache {
+    /// An empty cache.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Forgets what it holds.
+    pub fn clear(&self) {
+        self.last.borrow_mut().take();
+    }
+
+    /// Number of full samples kept, if any.
+    pub fn kept_samples(&self) -> Option<usize> {
+        self.last
+            .borrow()
+            .as_ref()
+            .map(|s| s.full.samples.positions.len())
+    }
+}
+
+/// The full samples at the resolution, with the speed optimiser's when `optimise_speed`.
+fn full_set(
+    mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
+    geometry: &FaceGeometry,
+    frame: &PatchFrame,
+    resolved: &Resolved,
+    optimise_speed: bool,
+) -> Result<Sampling, SprayError> {
+    let radius = resolved.radius;
+    let samples = sample_faces(mesh, adjacency, geometry, &frame.faces, resolved.resolution)?;
+    let full = Sampling::new(
+        mesh,
+        adjacency,
+        frame,
+        samples,
+        resolved.resolution,
+        radius,
+        resolved.edge_exclusion,
+    );
+    Ok(if optimise_speed {
+        full.with_solve_samples(radius)
+    } else {
+        full
+    })
+}
+
+/// The samples the spacing search screens on, if markedly fewer than `full`'s.
+fn coarse_set(
+    mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
+    geometry: &FaceGeometry,
+    frame: &PatchFrame,
+    resolved: &Resolved,
+    full: &Sampling,
+) -> Result<Option<Sampling>, SprayError> {
+    let radius = resolved.radius;
+    let cell = COARSE_RESOLUTION_RATIO * resolved.resolution;
+    // A face split at the cell is split at the finer resolution too: with one sub-triangle a
+    // face already (every face unsplit), no face is measured again.
+    let unsplit = full.samples.triangles.len() == frame.faces.len();
+    if unsplit || !subdivides(mesh, &frame.faces, cell) {
+        // The coarse samples would be the mesh's vertices: thin the full ones instead.
+        return Ok(full.thinned(cell, radius));
+    }
+    let c = sample_faces(mesh, adjacency, geometry, &frame.faces, cell)?;
+    let count = c.positions.len() as Real;
+    if count > COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real {
+        return Ok(full.thinned(cell, radius));
+    }
+    // On a mesh a little coarser than the cell, a face's reach sets its subdivisions and its
+    // shorter edges get samples closer than the cell: the full samples thinned to the cell
+    // may then be markedly fewer.
+    let area: Real = full.samples.weights.iter().sum();
+    let dense =
+        cell <= COARSE_THINNED_CELL_RATIO * radius && count > COARSE_DENSITY * area / (cell * cell);
+    let fewer = |t: &Sampling| t.samples.positions.len() as Real <= COARSE_SAMPLE_FRACTION * count;
+    Ok(match dense.then(|| full.thinned(cell, radius)).flatten() {
+        Some(t) if fewer(&t) => Some(t),
+        _ => Some(Sampling::new(
+            mesh,
+            adjacency,
+            frame,
+            c,
+            cell,
+            radius,
+            resolved.edge_exclusion,
+        )),
+    })
+}
+
 /// The full samples at the resolution (with the speed optimiser's, when `optimise_speed`) and,
-/// when `screening`, the samples the spacing search screens on, if markedly fewer.
+/// when `screening`, the samples the spacing search screens on, if markedly fewer: those
+/// `cache` keeps when they were made for the same faces at the same resolution (made now
+/// and left there otherwise). The same samples to the bit either way.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn sample_sets(
     mesh: &TriMesh,
     adjacency: &FaceAdjacency,
@@ -166,59 +333,33 @@ pub(super) fn sample_sets(
     resolved: &Resolved,
     screening: bool,
     optimise_speed: bool,
-) -> Result<(Sampling, Option<Sampling>), SprayError> {
-    let radius = resolved.radius;
-    let place =
-        |resolution: Real| sample_faces(mesh, adjacency, geometry, &frame.faces, resolution);
-    // The grid and interior mask are made only for samples that are kept.
-    let complete = |samples: EvaluationSamples, resolution: Real| {
-        Sampling::new(
-            mesh,
-            adjacency,
-            frame,
-            samples,
-            resolution,
-            radius,
-            resolved.edge_exclusion,
-        )
-    };
-    let full = complete(place(resolved.resolution)?, resolved.resolution);
-    let coarse = if !screening {
-        None
-    } else {
-        let cell = COARSE_RESOLUTION_RATIO * resolved.resolution;
-        // A face split at the cell is split at the finer resolution too: with one
-        // sub-triangle a face already (every face unsplit), no face is measured again.
-        let unsplit = full.samples.triangles.len() == frame.faces.len();
-        if unsplit || !subdivides(mesh, &frame.faces, cell) {
-            // The coarse samples would be the mesh's vertices: thin the full ones instead.
-            full.thinned(cell, radius)
-        } else {
-            let c = place(cell)?;
-            let count = c.positions.len() as Real;
-            if count > COARSE_SAMPLE_FRACTION * full.samples.positions.len() as Real {
-                full.thinned(cell, radius)
-            } else {
-                // On a mesh a little coarser than the cell, a face's reach sets its
-                // subdivisions and its shorter edges get samples closer than the cell: the
-                // full samples thinned to the cell may then be markedly fewer.
-                let area: Real = full.samples.weights.iter().sum();
-                let dense = cell <= COARSE_THINNED_CELL_RATIO * radius
-                    && count > COARSE_DENSITY * area / (cell * cell);
-                let fewer = |t: &Sampling| {
-                    t.samples.positions.len() as Real <= COARSE_SAMPLE_FRACTION * count
-                };
-                match dense.then(|| full.thinned(cell, radius)).flatten() {
-                    Some(t) if fewer(&t) => Some(t),
-                    _ => Some(complete(c, cell)),
-                }
+    cache: Option<&SampleCache>,
+) -> Result<Arc<SampleSets>, SprayError> {
+    let key = SampleKey::new(mesh, frame, resolved, optimise_speed);
+    let kept = cache.and_then(|c| c.last.borrow().clone().filter(|s| s.key == key));
+    let sets = match kept {
+        Some(sets) => sets,
+        None => {
+            // Let the old sets go first, so the two are not held at once.
+            if let Some(c) = cache {
+                c.clear();
             }
+            let full = full_set(mesh, adjacency, geometry, frame, resolved, optimise_speed)?;
+            let sets = Arc::new(SampleSets {
+                key,
+                full,
+                coarse: OnceLock::new(),
+            });
+            if let Some(c) = cache {
+                *c.last.borrow_mut() = Some(sets.clone());
+            }
+            sets
         }
     };
-    let full = if optimise_speed {
-        full.with_solve_samples(radius)
-    } else {
-        full
-    };
-    Ok((full, coarse))
+    if screening && sets.coarse.get().is_none() {
+        let coarse = coarse_set(mesh, adjacency, geometry, frame, resolved, &sets.full)?;
+        // Set once: nothing else holds this set while it is made.
+        let _ = sets.coarse.set(coarse);
+    }
+    Ok(sets)
 }

@@ -9,6 +9,7 @@ use crate::mesh::{
     prepare_mesh, read_stl_with_progress, FaceGroups, ImportedMesh, StlImport, StlStream,
     STL_RECORD_BYTES,
 };
+use crate::spray::SampleCache;
 use js_sys::Uint8Array;
 use std::rc::Rc;
 use wasm_bindgen::prelude::*;
@@ -121,6 +122,7 @@ impl StlReader {
             inner: Rc::new(imported),
             index: SharedIndex::default(),
             surfaces: SurfaceCache::new(),
+            spray_samples: SampleCache::new(),
         })
     }
 }
@@ -139,6 +141,8 @@ pub struct Mesh {
     pub(super) index: SharedIndex,
     /// What the last geodesic distance derived from the mesh for its faces, for the next.
     pub(super) surfaces: SurfaceCache,
+    /// The evaluation samples of the last spray plan, for the next on the same faces.
+    pub(super) spray_samples: SampleCache,
 }
 
 #[wasm_bindgen]
@@ -164,6 +168,7 @@ impl Mesh {
             inner: Rc::new(imported),
             index: SharedIndex::default(),
             surfaces: SurfaceCache::new(),
+            spray_samples: SampleCache::new(),
         })
     }
 
@@ -258,12 +263,13 @@ impl Mesh {
         let on_progress = read_callback(on_progress, "onProgress")?;
         let faces = faces.unwrap_or_else(|| (0..self.inner.mesh.triangle_count() as u32).collect());
         let m = &self.inner;
-        let plan = crate::spray::plan_spray(
+        let plan = crate::spray::plan_spray_cached(
             &m.mesh,
             &m.adjacency,
             &m.geometry,
             &faces,
             &params,
+            Some(&self.spray_samples),
             &mut progress_fn(on_progress),
         )?;
         Ok(SprayPlan::new(plan))

@@ -294,6 +294,57 @@ test('sampleBudget coarsens the resolution until the samples fit; plan.resolutio
   }
 });
 
+test('plans on the samples the mesh keeps are the plans on a fresh mesh', () => {
+  // The mesh keeps the samples of its last plan for the next on the same faces: a change of
+  // spacing, speed, limits or direction plans on them; other faces or another footprint
+  // make new ones. Every figure must match a fresh mesh's, to the bit.
+  const bytes = plateStl(400, 300, 8, 6);
+  const kept = Mesh.fromStl(bytes);
+  const left = Uint32Array.from({ length: kept.triangleCount / 2 }, (_, f) => f);
+  const search = { quality: { maxError: 0.1, minSpacing: 25 } };
+  const steps = [
+    [{}, undefined],
+    [{ spacing: 40 }, undefined],
+    [{ speed: 80, ...search }, undefined],
+    [{ rasterAngle: 0.4, ...search }, undefined],
+    [{ ...search }, left],
+    [{ standoff: 120 }, left],
+    [{ spacing: -1 }, left],
+    [{ optimiseSpeed: false }, undefined],
+  ];
+  try {
+    for (const [change, faces] of steps) {
+      const what = JSON.stringify({ change, faces: faces?.length });
+      const fresh = Mesh.fromStl(bytes);
+      const plans = [];
+      try {
+        for (const mesh of [fresh, kept]) {
+          try {
+            plans.push(mesh.planSpray({ ...base, timeStep: 0.05, ...change }, faces));
+          } catch (e) {
+            plans.push(e);
+          }
+        }
+      } finally {
+        fresh.free();
+      }
+      const [a, b] = plans;
+      if (a instanceof Error) {
+        assert.ok(b instanceof Error, what);
+        assert.equal(b.message, a.message, what);
+        continue;
+      }
+      for (const f of ['sampleThickness', 'samplePositions', 'trajectory', 'speeds', 'iterations', 'quality']) {
+        assert.deepEqual(b[f](), a[f](), `${what}: ${f}`);
+      }
+      a.free();
+      b.free();
+    }
+  } finally {
+    kept.free();
+  }
+});
+
 test('patchFaces lists the triangles of a kept patch', () => {
   const mesh = Mesh.fromStl(plateStl(400, 300, 4, 3));
   const seg = mesh.segment({ angleThreshold: 0.35 });
