@@ -345,6 +345,24 @@ test('plans on the samples the mesh keeps are the plans on a fresh mesh', () => 
   }
 });
 
+test("the page's warm-up runs a spray search through screening, confirmation and the speed optimiser", async () => {
+  // The worker's warm-up (www/worker/warm-up.js) must make the code of a real plan hot: the
+  // samples, the search's coarse screening and full confirmation, the optimised speeds.
+  const { capStl, SPRAY_WARM_UP } = await import(join(root, 'dist', 'worker', 'warm-up.js'));
+  const cap = Mesh.fromStl(capStl(...SPRAY_WARM_UP.cap));
+  try {
+    const plan = cap.planSpray(SPRAY_WARM_UP.params);
+    const its = plan.iterations();
+    assert.ok(its.some((it) => !it.full) && its.some((it) => it.full), 'screened and confirmed');
+    assert.ok(its.length >= 4, `${its.length} spacings tried`);
+    assert.ok(plan.maxSpeed > plan.minSpeed, 'speeds optimised along the passes');
+    assert.ok(plan.passCount > 1);
+    plan.free();
+  } finally {
+    cap.free();
+  }
+});
+
 test('patchFaces lists the triangles of a kept patch', () => {
   const mesh = Mesh.fromStl(plateStl(400, 300, 4, 3));
   const seg = mesh.segment({ angleThreshold: 0.35 });

@@ -12,7 +12,8 @@
 // after it). Typed arrays in results are transferred, not copied. 'open' takes { file } (a
 // File, read as a stream into the engine, never held whole) or { buffer } (an ArrayBuffer).
 // Once a model is open and no request has come for a second, the worker warms the geodesic
-// code up (warm-up.js), once: the Paths tool's first distance then runs optimised code.
+// and spray code up (warm-up.js), once: the Paths tool's first distance and the Spray tool's
+// first plan then run optimised code.
 // `broken` means the wasm instance may be corrupt: the page then replaces this worker. Cancel
 // also replaces the worker (a running wasm call cannot be interrupted otherwise).
 //
@@ -30,7 +31,7 @@ import * as sprayTool from './spray.js';
 import * as drillTool from './drill.js';
 import * as pathsTool from './paths.js';
 import { patchColorBytes } from '../viewer/palette.js';
-import { warmUp } from './warm-up.js';
+import { WARM_UP_STEPS } from './warm-up.js';
 
 const TOOLS = { segment: segmentTool, spray: sprayTool, drill: drillTool, paths: pathsTool };
 
@@ -211,27 +212,31 @@ function handlerOf(op) {
 
 const DOING = { open: 'reading the file', pick: 'picking', display: 'preparing the display' };
 
-/** Idle time after a request before the warm-up runs (a request meanwhile puts it off). */
+/** Idle time before each step of the warm-up runs (a request meanwhile puts it off). */
 const WARM_UP_IDLE_MS = 1000;
 let warmUpTimer = null;
-let warmedUp = false;
+/** Steps of the warm-up done (each runs once per worker). */
+let warmUpDone = 0;
 
 /**
- * Once a model is open, warms the geodesic code up (see warm-up.js) when no request has come
- * for WARM_UP_IDLE_MS, so that it never delays one the page is waiting for; once per worker.
+ * Once a model is open, warms the geodesic and spray code up (see warm-up.js), one step each
+ * time no request has come for WARM_UP_IDLE_MS, so that a request the page is waiting for
+ * waits for one step at most; once per worker.
  */
 function warmUpWhenIdle() {
   clearTimeout(warmUpTimer);
-  if (warmedUp || !ctx.mesh) return;
+  if (warmUpDone >= WARM_UP_STEPS.length || !ctx.mesh) return;
   warmUpTimer = setTimeout(() => {
-    warmedUp = true;
+    const step = WARM_UP_STEPS[warmUpDone];
+    warmUpDone += 1;
     try {
-      warmUp(Mesh);
+      step(Mesh);
     } catch (error) {
       // A failure here is a bug, not the user's: say so in the console, and the next request
       // reports it as usual if the engine is broken.
       console.warn(`skinpath: the engine's warm-up failed: ${error?.message ?? error}`);
     }
+    warmUpWhenIdle();
   }, WARM_UP_IDLE_MS);
 }
 
