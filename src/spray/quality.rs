@@ -104,8 +104,11 @@ pub fn interior_mask(
         return vec![true; samples.len()];
     }
     // Boundary edges cut into pieces of at most `band / 2`: a piece within `band` of a sample
-    // has its midpoint within 1.25·band, inside the box of that half-width around the
-    // sample, which covers few cells of size `band / 2`; the first piece found within
+    // has its midpoint within 1.25·band of it. The pieces are bucketed in cells of `band`:
+    // the box that reach around a cube of samples below (3·band wide) covers at most four
+    // along each axis (with cells of `band / 2`, up to seven: 343 cells a cube, most of them
+    // empty, and the mask took a third to three quarters longer on the bench's 20k panel and
+    // on the Orion and 747 patches at the page's budget). The first piece found within
     // `band` decides, so a sample near the boundary stops early.
     let piece = 0.5 * band;
     let mut pieces: Vec<Point3> = Vec::new();
@@ -130,7 +133,7 @@ pub fn interior_mask(
     if pieces.is_empty() {
         return vec![true; samples.len()];
     }
-    let grid = PointGrid::new(&pieces, piece);
+    let grid = PointGrid::new(&pieces, band);
     let reach = 1.25 * band;
     let distance = |x: &Point3, i: u32| {
         let (p, q) = ends[i as usize];
