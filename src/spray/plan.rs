@@ -7,9 +7,10 @@
 //!         thickness, quality, every spacing tried, the worst regions and what would help.
 //! Cost:   samples and their grids once ([`sample_sets`]: the full samples, the search's
 //!         screening samples, the speed optimiser's), or not at all when a [`SampleCache`]
-//!         holds them from the plan before ([`plan_spray_cached`]); per spacing tried O(F + S log S) for
-//!         the raster, O(time samples × points per cone) for the deposition and, with speed
-//!         optimisation, the coating matrix and its sweeps ([`optimise_speeds`]).
+//!         holds them from the plan before ([`plan_spray_cached`]); per spacing tried
+//!         O(F + S log S) for the raster, O(time samples × points per cone) for the
+//!         deposition and, with speed optimisation, the coating matrix and its sweeps
+//!         ([`optimise_speeds`]).
 //! Deviations: the patent keeps the speed constant; here, by default, the speed of each short
 //!         piece of path is optimised within `[minSpeed, maxSpeed]` ([`optimise_speeds`]),
 //!         towards `targetThickness` when given. Without speed optimisation, `targetThickness`
