@@ -14,7 +14,8 @@
 //!         model, a drift of millimetres a step along a wing root). A segment (a piece of a
 //!         source curve) is turned as before: its rays to the fan leave it from different
 //!         points, most not passing the vertex (walking them took the BWB's patch from 0.36
-//!         to 1.2 m off exact).
+//!         to 1.2 m off exact). Far from its curve, a sharp vertex first takes its piece as
+//!         a point source at the piece's foot, and walks that (see `virtual_source.rs`).
 //! Cost:   a rotation and a 3 × 3 product per face walked, a crossing test and a wedge
 //!         bound per edge walked before it (fans are small); only at sharp vertices, none on
 //!         the bench's meshes.
@@ -158,7 +159,7 @@ impl Solver<'_> {
     /// than [`SHARP_COSINE`] allows, so that turning the source about `u` is not close enough
     /// to unfolding it across the faces between.
     #[inline(always)]
-    fn is_sharp(&self, u: usize, face: usize) -> bool {
+    pub(super) fn is_sharp(&self, u: usize, face: usize) -> bool {
         let normals = &self.surface.face_normals;
         let n0 = normals[face];
         self.surface
