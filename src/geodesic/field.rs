@@ -13,7 +13,7 @@
 //! Cost: O(F) per level for the mesh method plus O(P²) over the P lines of one level for
 //! the nearest-line choice (P is small: the pieces of one level).
 
-use super::iso_lines::{contour, IsoLine};
+use super::iso_lines::{contour_from, FacesByLevel, IsoLine};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
 use super::source::{boundary_loops, resolve, GeodesicSource};
 use super::surface::{Derived, Surface, SurfaceCache};
@@ -27,6 +27,11 @@ use std::sync::Arc;
 
 /// Levels at most in one request (a guard against a spacing far below the part size).
 pub const MAX_LEVELS: u32 = 100_000;
+/// Most points the passes of one call may have (a robot program of that many moves is
+/// already far beyond what a controller holds; the page gets them as 12 bytes a point).
+pub const MAX_PATH_POINTS: u64 = 5_000_000;
+/// Most crossings of a face by a level the passes of one call may look at (4 bytes each).
+const MAX_LEVEL_CROSSINGS: u64 = 20_000_000;
 /// Source samples per mean edge length (the source polyline is subdivided this finely).
 const SAMPLES_PER_EDGE: Real = 2.0;
 /// Default voxel edge, in mean edge lengths.
@@ -270,14 +275,59 @@ impl DistanceField {
             k_max = k_max.min(m);
         }
         let point_spacing = params.point_spacing.unwrap_or(params.spacing / 4.0);
+        // The faces each level crosses, found in one pass (a scan of every face per level
+        // would make a fine spacing on a large mesh quadratic).
+        let by_level = match &self.voxels {
+            Some(_) => None,
+            None => Some(
+                FacesByLevel::new(
+                    &surface,
+                    &self.vertex_distance,
+                    params.spacing,
+                    k_max,
+                    MAX_LEVEL_CROSSINGS,
+                )
+                .map_err(|count| GeodesicError::PassesTooLarge {
+                    count,
+                    what: "crossings of faces",
+                    limit: MAX_LEVEL_CROSSINGS,
+                })?,
+            ),
+        };
+        let mut visited = vec![
+            false;
+            if by_level.is_some() {
+                mesh.triangle_count()
+            } else {
+                0
+            }
+        ];
         let mut out = Vec::new();
+        let mut points: u64 = 0;
         for k in 1..=k_max {
             let d = k as Real * params.spacing;
-            let lines = match &self.voxels {
-                Some(field) => order_level(field, d, k),
-                None => contour(&surface, &self.vertex_distance, d),
+            let lines = match (&self.voxels, &by_level) {
+                (Some(field), _) => order_level(field, d, k),
+                (None, Some(by_level)) => contour_from(
+                    &surface,
+                    &self.vertex_distance,
+                    d,
+                    by_level.of(k),
+                    &mut visited,
+                ),
+                (None, None) => Vec::new(),
             };
             for mut line in lines {
+                // Counted before resampling, so a spacing far too fine is refused before the
+                // points are made.
+                points += line.resampled_count(point_spacing) as u64;
+                if points > MAX_PATH_POINTS {
+                    return Err(GeodesicError::PassesTooLarge {
+                        count: points,
+                        what: "points",
+                        limit: MAX_PATH_POINTS,
+                    });
+                }
                 line.level = k;
                 out.push(line.resampled(point_spacing));
             }

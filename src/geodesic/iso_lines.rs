@@ -5,7 +5,9 @@
 //! Input:  the active faces, one value per vertex (`+∞` where unreached), a level.
 //! Output: open and closed polylines with the unit surface normal (vertex normals
 //!         interpolated along the edge) at each point.
-//! Cost:   O(F) per level.
+//! Cost:   O(F) for one level; for the levels of a distance field, O(F + C) in all (`C`
+//!         the faces the levels cross: each face is listed under the levels it spans, see
+//!         [`FacesByLevel`]), not O(F) per level.
 //! Deviations: none. A vertex at the level counts as above it, so every edge is cut at most
 //!         once and both faces of an edge agree; "at" allows a relative `LEVEL_TOLERANCE`, so
 //!         a row of vertices lying on the level up to rounding (a rim at a multiple of the
@@ -74,6 +76,7 @@ impl IsoLine {
         if n < 2 {
             return self.clone();
         }
+        let (pieces, count) = self.pieces(spacing);
         let mut pts = self.points.clone();
         let mut nrm = self.normals.clone();
         if self.closed {
@@ -85,8 +88,6 @@ impl IsoLine {
             cum[i] = cum[i - 1] + (pts[i] - pts[i - 1]).norm();
         }
         let total = cum[pts.len() - 1];
-        let pieces = ((total / spacing).round() as usize).max(if self.closed { 3 } else { 1 });
-        let count = if self.closed { pieces } else { pieces + 1 };
         let (mut points, mut normals) = (Vec::with_capacity(count), Vec::with_capacity(count));
         let mut seg = 0;
         for j in 0..count {
@@ -116,20 +117,144 @@ impl IsoLine {
     }
 }
 
-/// The level set `values = level` on the active faces as polylines (level index 0).
-pub(crate) fn contour(surface: &Surface, values: &[Real], level: Real) -> Vec<IsoLine> {
-    contour_with_faces(surface, values, level)
+impl IsoLine {
+    /// The number of points [`IsoLine::resampled`] gives at `spacing`.
+    pub fn resampled_count(&self, spacing: Real) -> usize {
+        if self.points.len() < 2 {
+            self.points.len()
+        } else {
+            self.pieces(spacing).1
+        }
+    }
+
+    /// The pieces and points of the line resampled at `spacing` (at least 3 pieces for a
+    /// closed line, 1 for an open one).
+    fn pieces(&self, spacing: Real) -> (usize, usize) {
+        let mut total: Real = self.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        if self.closed {
+            total += (self.points[0] - self.points[self.points.len() - 1]).norm();
+        }
+        let pieces = ((total / spacing).round() as usize).max(if self.closed { 3 } else { 1 });
+        (pieces, if self.closed { pieces } else { pieces + 1 })
+    }
+}
+
+/// The active faces each level `k · spacing` (`k = 1..=levels`) may cross, level by level: a
+/// face is listed under every level between its smallest and largest value (and one more at
+/// each end: a margin for rounding and for [`LEVEL_TOLERANCE`]), so that the levels' lines
+/// are found without a scan of every face per level; faces with an unreached corner under
+/// none.
+pub(crate) struct FacesByLevel {
+    /// Level `k`'s faces are `faces[start[k - 1]..start[k]]`.
+    start: Vec<usize>,
+    faces: Vec<u32>,
+}
+
+impl FacesByLevel {
+    /// The lists, or `Err(entries)` when they would hold more than `max_entries` entries
+    /// (counted before anything is stored).
+    pub(crate) fn new(
+        surface: &Surface,
+        values: &[Real],
+        spacing: Real,
+        levels: u32,
+        max_entries: u64,
+    ) -> Result<Self, u64> {
+        let tris = surface.mesh.triangles();
+        // The levels a face may cross, `1..=levels` clamped; empty when it has an unreached
+        // corner. Level k is crossed only where the smallest value is below k·spacing and
+        // the largest at least the level less its tolerance.
+        let range = |f: u32| -> (u32, u32) {
+            let t = tris[f as usize];
+            let v = t.map(|i| values[i as usize]);
+            if !v.iter().all(|x| x.is_finite()) {
+                return (1, 0);
+            }
+            let lo = v[0].min(v[1]).min(v[2]) / spacing;
+            let hi = v[0].max(v[1]).max(v[2]) / spacing;
+            let first = lo.floor().max(1.0);
+            let last = (hi.floor() + 1.0).min(levels as Real);
+            if last < first {
+                return (1, 0);
+            }
+            (first as u32, last as u32)
+        };
+        let mut count = vec![0i64; levels as usize + 1];
+        let mut entries: u64 = 0;
+        for &f in &surface.faces {
+            let (a, b) = range(f);
+            if a <= b {
+                entries += u64::from(b - a + 1);
+                // Counted at the first and one past the last level: a prefix sum below.
+                count[a as usize - 1] += 1;
+                count[b as usize] -= 1;
+            }
+        }
+        if entries > max_entries {
+            return Err(entries);
+        }
+        // Faces spanning each level (a prefix sum of the marks), then their starts.
+        let mut start = Vec::with_capacity(levels as usize + 1);
+        start.push(0);
+        let mut spanning = 0i64;
+        for k in 0..levels as usize {
+            spanning += count[k];
+            start.push(start[k] + spanning as usize);
+        }
+        let mut next = start.clone();
+        let mut faces = vec![0u32; start[levels as usize]];
+        for &f in &surface.faces {
+            let (a, b) = range(f);
+            for k in a..=b {
+                let at = &mut next[k as usize - 1];
+                faces[*at] = f;
+                *at += 1;
+            }
+        }
+        Ok(FacesByLevel { start, faces })
+    }
+
+    /// The faces level `k` may cross (`1 ≤ k ≤ levels`).
+    pub(crate) fn of(&self, k: u32) -> &[u32] {
+        &self.faces[self.start[k as usize - 1]..self.start[k as usize]]
+    }
+}
+
+/// The level set `values = level` as polylines (level index 0), looked for from the faces
+/// `starts` only (every face it crosses must be among them); `visited` holds a `false` per
+/// mesh face, and is left so.
+pub(crate) fn contour_from(
+    surface: &Surface,
+    values: &[Real],
+    level: Real,
+    starts: &[u32],
+    visited: &mut [bool],
+) -> Vec<IsoLine> {
+    contour_with_faces_from(surface, values, level, starts, visited)
         .into_iter()
         .map(|(line, _)| line)
         .collect()
 }
 
-/// [`contour`] with the face each segment of a line lies in: segment `j` joins point `j` to
-/// point `j + 1` (of a closed line, the last joins the last point to the first).
+/// The level set `values = level` on the active faces as polylines (level index 0), with the
+/// face each segment of a line lies in: segment `j` joins point `j` to point `j + 1` (of a
+/// closed line, the last joins the last point to the first).
 pub(crate) fn contour_with_faces(
     surface: &Surface,
     values: &[Real],
     level: Real,
+) -> Vec<(IsoLine, Vec<u32>)> {
+    let mut visited = vec![false; surface.mesh.triangle_count()];
+    contour_with_faces_from(surface, values, level, &surface.faces, &mut visited)
+}
+
+/// [`contour_with_faces`] from the faces `starts` (see [`contour_from`]).
+fn contour_with_faces_from(
+    surface: &Surface,
+    values: &[Real],
+    level: Real,
+    starts: &[u32],
+    visited: &mut [bool],
 ) -> Vec<(IsoLine, Vec<u32>)> {
     let mesh = surface.mesh;
     let on = level - LEVEL_TOLERANCE * level.abs().max(1.0);
@@ -168,15 +293,17 @@ pub(crate) fn contour_with_faces(
     let entry = |g: usize, f: usize, slots: [usize; 2]| -> Option<usize> {
         slots.into_iter().find(|&k| surface.across(g, k) == Some(f))
     };
-    let mut visited = vec![false; mesh.triangle_count()];
+    // The faces marked, to clear `visited` for the next level.
+    let mut marked: Vec<u32> = Vec::new();
     let mut lines = Vec::new();
-    for &f0 in &surface.faces {
+    for &f0 in starts {
         let f0 = f0 as usize;
         if visited[f0] {
             continue;
         }
         let Some(slots0) = crossing(f0) else { continue };
         visited[f0] = true;
+        marked.push(f0 as u32);
         // Walk one way from f0 through slots0[1], then the other way through slots0[0]; each
         // point with the face it leaves.
         let mut halves: [Vec<(Point3, Vector3, u32)>; 2] = [Vec::new(), Vec::new()];
@@ -200,6 +327,7 @@ pub(crate) fn contour_with_faces(
                 let Some(slots) = crossing(g) else { break };
                 let Some(k) = entry(g, f, slots) else { break };
                 visited[g] = true;
+                marked.push(g as u32);
                 exit = if slots[0] == k { slots[1] } else { slots[0] };
                 f = g;
             }
@@ -240,5 +368,78 @@ pub(crate) fn contour_with_faces(
             ));
         }
     }
+    for f in marked {
+        visited[f as usize] = false;
+    }
     lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{FaceAdjacency, TriMesh};
+
+    /// A wavy square of 30 × 30 quads cut into triangles, with a value per vertex that
+    /// swings over it (saddles, rings and levels through vertices), and one vertex unreached.
+    fn wavy() -> (TriMesh, Vec<Real>) {
+        let n = 30usize;
+        let mut positions = Vec::new();
+        let mut values = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, y) = (i as Real, j as Real);
+                positions.push(Point3::new(x, y, 0.3 * libm::sin(0.4 * x + 0.2 * y)));
+                values.push(4.0 + 3.0 * libm::sin(0.3 * x) * libm::cos(0.25 * y) + 0.1 * x);
+            }
+        }
+        // Some values exactly at a level (a multiple of the spacing below).
+        for v in (0..values.len()).step_by(7) {
+            values[v] = (values[v] * 4.0).round() / 4.0;
+        }
+        // And some a hair below one, within the tolerance that counts them on it.
+        for v in (3..values.len()).step_by(11) {
+            values[v] = (values[v] * 4.0).round() / 4.0 * (1.0 - 1e-12);
+        }
+        values[5 * (n + 1) + 5] = Real::INFINITY;
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let q = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+                triangles.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+            }
+        }
+        (TriMesh::new(positions, triangles).unwrap(), values)
+    }
+
+    #[test]
+    fn the_levels_found_from_their_listed_faces_are_those_of_a_scan_of_every_face() {
+        let (mesh, values) = wavy();
+        let adjacency = FaceAdjacency::new(&mesh);
+        let surface = Surface::new(&mesh, &adjacency, None).unwrap();
+        let spacing = 0.25;
+        let levels = 40;
+        let by_level = FacesByLevel::new(&surface, &values, spacing, levels, u64::MAX).unwrap();
+        let mut visited = vec![false; mesh.triangle_count()];
+        let mut lines = 0;
+        for k in 1..=levels {
+            let d = k as Real * spacing;
+            let all = contour_with_faces(&surface, &values, d);
+            let listed = contour_from(&surface, &values, d, by_level.of(k), &mut visited);
+            assert!(visited.iter().all(|&v| !v), "level {k} left faces marked");
+            assert_eq!(listed.len(), all.len(), "level {k}");
+            for (a, (b, _)) in listed.iter().zip(&all) {
+                assert_eq!(a.points, b.points, "level {k}");
+                assert_eq!(a.closed, b.closed, "level {k}");
+            }
+            lines += all.len();
+        }
+        assert!(lines > 40, "{lines} lines");
+        // Over its budget, the listing is refused with the number of entries it would hold.
+        let entries = by_level.faces.len() as u64;
+        assert!(matches!(
+            FacesByLevel::new(&surface, &values, spacing, levels, entries - 1),
+            Err(e) if e == entries
+        ));
+    }
 }

@@ -43,6 +43,20 @@ pub enum GeodesicError {
         /// The smallest voxel edge that fits.
         min_size: Real,
     },
+    /// The passes asked for would be too large to compute or to export.
+    #[error(
+        "the passes would need more than {} {what}, the most one computation may have: widen \
+         the pass spacing or the point spacing, or ask for fewer passes",
+        millions(*.limit)
+    )]
+    PassesTooLarge {
+        /// How many (at least).
+        count: u64,
+        /// Of what: points, or crossings of faces.
+        what: &'static str,
+        /// The most allowed.
+        limit: u64,
+    },
     /// A bounded loop reached its cap (a guard against pathological input, never a hang).
     #[error("geodesic computation stopped: {0}")]
     LimitExceeded(String),
@@ -106,6 +120,11 @@ pub struct DistanceParams {
     /// boundary loop turning as a hole's rim does), none elsewhere; `Some(0)`: never. See
     /// [`Method::Accurate`].
     pub exact_first_windows: Option<u64>,
+}
+
+/// A count in millions, one decimal (`5.0 million`).
+fn millions(n: u64) -> String {
+    format!("{:.1} million", n as f64 / 1e6)
 }
 
 impl Default for DistanceParams {

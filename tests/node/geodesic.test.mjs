@@ -402,6 +402,10 @@ test('bad input throws an Error naming it and the mesh keeps working', () => {
   refuses(() => field.isoPaths(10, { maxLevel: 0.5 }), /^maxLevel must be a whole number/);
   refuses(() => field.isoPaths(10, { pointSpacing: 0 }), /pointSpacing = 0/);
   refuses(() => field.toolPath(1e-4), /more than 100000 levels/);
+  // 12,000 levels round the cylinder, a point every 0.0025 mm: refused at 5 million points,
+  // before they are made.
+  refuses(() => field.isoPaths(0.01), /^the passes would need more than 5\.0 million points, the most one computation may have: widen the pass spacing or the point spacing, or ask for fewer passes/);
+  refuses(() => field.toolPath(0.01), /more than 5\.0 million points/);
   refuses(() => field.toolPath(10, { speed: -1 }), /speed = -1/);
   const path = field.toolPath(10);
   refuses(() => path.toCsv({ mmPerUnit: 0 }), /mmPerUnit/);
