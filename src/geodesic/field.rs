@@ -41,7 +41,7 @@ const SAME_POSITION_RATIO: Real = 1e-6;
 /// Default snapping distance, in mean edge lengths.
 const DEFAULT_SNAP_EDGES: Real = 5.0;
 /// The accurate method tries the exact one first only on surfaces of at most this many faces
-/// (where its budget below costs at most about a second natively)...
+/// (where its budget below costs at most about five seconds natively)...
 const EXACT_FIRST_FACES: usize = 100_000;
 /// ...with a vertex whose |angle defect| exceeds this (radians, about 3°): a corner, where
 /// virtual sources err most. Smooth meshes fine enough for virtual sources to be accurate
@@ -57,11 +57,16 @@ const CORNER_DEFECT: Real = 0.05;
 /// on the cap R 1000 mm of 60k faces with a hole 120 mm across, from a plane section, 0.22 mm (15
 /// before; from a vertex, held to the shadow's edge all the way back, 0.000). Larger surfaces, and
 /// a try over its budget, keep that error (see "Limits" in `virtual_source.rs`).
-/// Windows per face the exact method may process there (measured on whole aircraft models
-/// from a vertex: 19–32 per face on a BWB, 45–46 on a wing-body, 35–59 on Orion). A try on
-/// course to overrun it gives up early (see `exact::PROJECTED_OVERRUN`): from the nose of the
-/// wing-body (161 per face) at 13 per face.
-const EXACT_FIRST_WINDOWS_PER_FACE: u64 = 64;
+/// Windows per face the exact method may process there. Measured on whole aircraft models
+/// from a vertex: 19–32 per face on a BWB, 45–46 on a wing-body (161 from its nose), 35–59
+/// on Orion; from their sections by planes at a tenth to nine tenths of their length: 34–44
+/// on the BWB, 52–63 on the airplane, 78–115 on Orion, 109–183 on the wing-body (2.1–3.9 s
+/// natively). With 64 (until the virtual sources' pieces were taken as points at sharp
+/// vertices far from the curve, see `virtual_source.rs`), Orion and the wing-body got virtual
+/// sources from most such planes, up to 3.6 ft and 0.22 m short of exact (0.73–9.6 ft and
+/// 0.12–0.90 m before that change). A try on course to overrun the budget gives up early
+/// (see `exact::PROJECTED_OVERRUN`).
+const EXACT_FIRST_WINDOWS_PER_FACE: u64 = 192;
 /// ...and at least this many on a surface of fewer than 65,536 faces (about a second
 /// natively), where a budget per face would give up on work nearly done: windows per face
 /// grow about as √n (see `exact`), so Orion's heat shield from its section by the plane

@@ -83,8 +83,9 @@
 //!         Sources carried round a thin trailing edge may still fall short: the wing-body
 //!         model from its sections by the planes x = 7 and 8.5 m, aft of the wing, up to
 //!         0.22 and 0.17 m short of exact at the wing tip, 3.4 and 4.9 m on (fast marching
-//!         within 0.002 m there); the accurate method's exact try on small cornered
-//!         surfaces is over its budget there (110–180 windows a face from these planes).
+//!         within 0.002 m there). On a surface that small the accurate method answers
+//!         with the exact distance (its exact try's budget covers these planes, see
+//!         `field.rs`); on larger cornered ones the virtual sources keep that error.
 //! Deviations (no paper):
 //!   - A virtual source is a *segment* `[p, q]` (distance `σ + dist(x, [p, q])`): a point
 //!     when `p = q`, otherwise the straight run of a source curve nearest to the vertex (the

@@ -30,7 +30,7 @@ export type GeodesicSource =
   | { plane: { point: [number, number, number]; normal: [number, number, number] } };
 /** method "accurate" (default: virtual sources carried vertex to vertex, near the exact
  *  polyhedral distance at the cost of fast marching; on a surface of at most 100k triangles
- *  with a corner or a hole, the exact distance when it takes at most 64 windows per
+ *  with a corner or a hole, the exact distance when it takes at most 192 windows per
  *  triangle (at least 4M), and the field's method is then "exact"), "exact" (window
  *  propagation, the exact
  *  polyhedral distance, the reference; slow on large doubly curved meshes), "fast" (unfolded

@@ -74,7 +74,7 @@ const WINDOW_CAP_BASE: u64 = 1 << 20;
 /// for that much more than the cap if the windows per vertex reached held. They grow as the
 /// front moves out, so runs that finish within the cap stay below it (on whole aircraft
 /// models from a vertex, at most 1.0 times the cap at any point), and a wing-body model from
-/// its vertex 0 (161 windows per face in all) stops at 26 per face instead of 64.
+/// its vertex 0 (161 windows per face in all) with a cap of 64 per face stops at 26.
 const PROJECTED_OVERRUN: Real = 1.1;
 /// ...once the windows are at least this share of the cap (the first rings around a source
 /// take many windows per vertex reached).
