@@ -1009,6 +1009,22 @@ mod real_models {
         .unwrap()
     }
 
+    /// The distance from `source` on the whole model by `method`, the accurate method's exact
+    /// try given `exact_first_windows` (see [`DistanceParams`]).
+    fn distance(
+        m: &ImportedMesh,
+        source: &GeodesicSource,
+        method: Method,
+        exact_first_windows: Option<u64>,
+    ) -> skinpath::geodesic::DistanceField {
+        let params = DistanceParams {
+            method,
+            exact_first_windows,
+            ..DistanceParams::default()
+        };
+        geodesic_distance(&m.mesh, &m.adjacency, source, &params, &mut |_, _| {}).unwrap()
+    }
+
     /// Shortest distance from `x` to the segment `a`–`b`.
     fn to_segment(x: &Point3, a: &Point3, b: &Point3) -> Real {
         let ab = b - a;
@@ -1187,17 +1203,10 @@ mod real_models {
                     ),
                     normal: skinpath::math::Vector3::x(),
                 };
-                let run = |method, exact_first_windows| {
-                    let params = DistanceParams {
-                        method,
-                        exact_first_windows,
-                        ..DistanceParams::default()
-                    };
-                    geodesic_distance(&m.mesh, &m.adjacency, &source, &params, &mut |_, _| {})
-                        .unwrap()
-                        .vertex_distance
-                };
-                let (accurate, exact) = (run(Method::Accurate, Some(0)), run(Method::Exact, None));
+                let (accurate, exact) = (
+                    distance(&m, &source, Method::Accurate, Some(0)).vertex_distance,
+                    distance(&m, &source, Method::Exact, None).vertex_distance,
+                );
                 let (mut short, mut off_sum, mut n) = (0.0 as Real, 0.0, 0);
                 for (a, e) in accurate.iter().zip(&exact) {
                     assert_eq!(a.is_finite(), e.is_finite(), "{name} at {f}");
@@ -1239,14 +1248,10 @@ mod real_models {
             ),
             normal: skinpath::math::Vector3::x(),
         };
-        let run = |method| {
-            let params = DistanceParams {
-                method,
-                ..DistanceParams::default()
-            };
-            geodesic_distance(&m.mesh, &m.adjacency, &source, &params, &mut |_, _| {}).unwrap()
-        };
-        let (default, exact) = (run(Method::Accurate), run(Method::Exact));
+        let (default, exact) = (
+            distance(&m, &source, Method::Accurate, None),
+            distance(&m, &source, Method::Exact, None),
+        );
         assert_eq!(default.method, Method::Exact);
         assert!(default.windows > 64 * m.mesh.triangle_count() as u64);
         assert!(default
@@ -1327,13 +1332,7 @@ mod real_models {
             for src in sources {
                 let source = GeodesicSource::Vertices(vec![src]);
                 let run = |method, exact_first_windows| {
-                    let params = DistanceParams {
-                        method,
-                        exact_first_windows,
-                        ..DistanceParams::default()
-                    };
-                    geodesic_distance(&m.mesh, &m.adjacency, &source, &params, &mut |_, _| {})
-                        .unwrap()
+                    distance(&m, &source, method, exact_first_windows)
                 };
                 let (accurate, exact) = (
                     run(Method::Accurate, Some(0)).vertex_distance,
