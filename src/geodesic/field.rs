@@ -13,13 +13,13 @@
 //! Cost: O(F) per level for the mesh method plus O(P²) over the P lines of one level for
 //! the nearest-line choice (P is small: the pieces of one level).
 
-use super::iso_lines::{contour_from, FacesByLevel, IsoLine};
+use super::iso_lines::{contour_from, IsoLine, LevelLists};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
 use super::source::{boundary_loops, resolve, GeodesicSource};
 use super::surface::{Derived, Surface, SurfaceCache};
 use super::unfolding::is_hole_rim;
 use super::voxel::{propagate as voxel_propagate, voxelise, VoxelField};
-use super::voxel_paths::order_level;
+use super::voxel_paths::{order_level, voxels_by_level};
 use crate::math::{Real, Vector3};
 use crate::mesh::{FaceAdjacency, TriMesh};
 use crate::toolpath::{Pose, PoseKind, ToolPath};
@@ -30,7 +30,8 @@ pub const MAX_LEVELS: u32 = 100_000;
 /// Most points the passes of one call may have (a robot program of that many moves is
 /// already far beyond what a controller holds; the page gets them as 12 bytes a point).
 pub const MAX_PATH_POINTS: u64 = 5_000_000;
-/// Most crossings of a face by a level the passes of one call may look at (4 bytes each).
+/// Most crossings of a face (or a voxel's band) by a level the passes of one call may look
+/// at (4 bytes each).
 const MAX_LEVEL_CROSSINGS: u64 = 20_000_000;
 /// Source samples per mean edge length (the source polyline is subdivided this finely).
 const SAMPLES_PER_EDGE: Real = 2.0;
@@ -280,47 +281,43 @@ impl DistanceField {
             k_max = k_max.min(m);
         }
         let point_spacing = params.point_spacing.unwrap_or(params.spacing / 4.0);
-        // The faces each level crosses, found in one pass (a scan of every face per level
-        // would make a fine spacing on a large mesh quadratic).
-        let by_level = match &self.voxels {
-            Some(_) => None,
-            None => Some(
-                FacesByLevel::new(
-                    &surface,
-                    &self.vertex_distance,
-                    params.spacing,
-                    k_max,
-                    MAX_LEVEL_CROSSINGS,
-                )
-                .map_err(|count| GeodesicError::PassesTooLarge {
-                    count,
-                    what: "crossings of faces",
-                    limit: MAX_LEVEL_CROSSINGS,
-                })?,
+        // The faces each level crosses (the voxels near it), found in one pass: a scan of
+        // every face or voxel per level would make a fine spacing on a large mesh quadratic.
+        let lists = match &self.voxels {
+            Some(field) => voxels_by_level(field, params.spacing, k_max, MAX_LEVEL_CROSSINGS),
+            None => LevelLists::of_faces(
+                &surface,
+                &self.vertex_distance,
+                params.spacing,
+                k_max,
+                MAX_LEVEL_CROSSINGS,
             ),
+        }
+        .map_err(|count| GeodesicError::PassesTooLarge {
+            count,
+            what: "crossings of faces or voxels by the levels",
+            limit: MAX_LEVEL_CROSSINGS,
+        })?;
+        // Faces met on the walks of a level (the mesh method only).
+        let walked = if self.voxels.is_none() {
+            mesh.triangle_count()
+        } else {
+            0
         };
-        let mut visited = vec![
-            false;
-            if by_level.is_some() {
-                mesh.triangle_count()
-            } else {
-                0
-            }
-        ];
+        let mut visited = vec![false; walked];
         let mut out = Vec::new();
         let mut points: u64 = 0;
         for k in 1..=k_max {
             let d = k as Real * params.spacing;
-            let lines = match (&self.voxels, &by_level) {
-                (Some(field), _) => order_level(field, d, k),
-                (None, Some(by_level)) => contour_from(
+            let lines = match &self.voxels {
+                Some(field) => order_level(field, d, k, lists.of(k)),
+                None => contour_from(
                     &surface,
                     &self.vertex_distance,
                     d,
-                    by_level.of(k),
+                    lists.of(k),
                     &mut visited,
                 ),
-                (None, None) => Vec::new(),
             };
             for mut line in lines {
                 // Counted before resampling, so a spacing far too fine is refused before the

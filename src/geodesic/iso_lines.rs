@@ -7,7 +7,7 @@
 //!         interpolated along the edge) at each point.
 //! Cost:   O(F) for one level; for the levels of a distance field, O(F + C) in all (`C`
 //!         the faces the levels cross: each face is listed under the levels it spans, see
-//!         [`FacesByLevel`]), not O(F) per level.
+//!         [`LevelLists`]), not O(F) per level.
 //! Deviations: none. A vertex at the level counts as above it, so every edge is cut at most
 //!         once and both faces of an edge agree; "at" allows a relative `LEVEL_TOLERANCE`, so
 //!         a row of vertices lying on the level up to rounding (a rim at a multiple of the
@@ -139,53 +139,44 @@ impl IsoLine {
     }
 }
 
-/// The active faces each level `k · spacing` (`k = 1..=levels`) may cross, level by level: a
-/// face is listed under every level between its smallest and largest value (and one more at
-/// each end: a margin for rounding and for [`LEVEL_TOLERANCE`]), so that the levels' lines
-/// are found without a scan of every face per level; faces with an unreached corner under
-/// none.
-pub(crate) struct FacesByLevel {
-    /// Level `k`'s faces are `faces[start[k - 1]..start[k]]`.
+/// Items listed under the levels `k = 1..=levels` each may belong to (a face under the
+/// levels its values span, a voxel under those within half its edge), built in one pass, so
+/// that the levels of a distance field are found in time linear in the items and the
+/// entries, not the items times the levels.
+pub(crate) struct LevelLists {
+    /// Level `k`'s items are `items[start[k - 1]..start[k]]`.
     start: Vec<usize>,
-    faces: Vec<u32>,
+    items: Vec<u32>,
 }
 
-impl FacesByLevel {
-    /// The lists, or `Err(entries)` when they would hold more than `max_entries` entries
-    /// (counted before anything is stored).
+impl LevelLists {
+    /// Lists each of `ids` under the levels `range(id)` (first and last, clamped to
+    /// `1..=levels`; empty when the first is past the last), or `Err(entries)` when that
+    /// would make more than `max_entries` entries (counted before anything is stored).
     pub(crate) fn new(
-        surface: &Surface,
-        values: &[Real],
-        spacing: Real,
+        ids: impl Iterator<Item = u32> + Clone,
         levels: u32,
         max_entries: u64,
+        range: impl Fn(u32) -> (Real, Real),
     ) -> Result<Self, u64> {
-        let tris = surface.mesh.triangles();
-        // The levels a face may cross, `1..=levels` clamped; empty when it has an unreached
-        // corner. Level k is crossed only where the smallest value is below k·spacing and
-        // the largest at least the level less its tolerance.
-        let range = |f: u32| -> (u32, u32) {
-            let t = tris[f as usize];
-            let v = t.map(|i| values[i as usize]);
-            if !v.iter().all(|x| x.is_finite()) {
-                return (1, 0);
+        let clamped = |id: u32| -> (u32, u32) {
+            let (first, last) = range(id);
+            let (first, last) = (first.max(1.0), last.min(levels as Real));
+            // NaN fails the comparison: listed under none.
+            if first <= last {
+                (first as u32, last as u32)
+            } else {
+                (1, 0)
             }
-            let lo = v[0].min(v[1]).min(v[2]) / spacing;
-            let hi = v[0].max(v[1]).max(v[2]) / spacing;
-            let first = lo.floor().max(1.0);
-            let last = (hi.floor() + 1.0).min(levels as Real);
-            if last < first {
-                return (1, 0);
-            }
-            (first as u32, last as u32)
         };
+        // A difference array of the levels each item spans: +1 at its first, −1 after its
+        // last; its prefix sums are the items per level.
         let mut count = vec![0i64; levels as usize + 1];
         let mut entries: u64 = 0;
-        for &f in &surface.faces {
-            let (a, b) = range(f);
+        for id in ids.clone() {
+            let (a, b) = clamped(id);
             if a <= b {
                 entries += u64::from(b - a + 1);
-                // Counted at the first and one past the last level: a prefix sum below.
                 count[a as usize - 1] += 1;
                 count[b as usize] -= 1;
             }
@@ -193,7 +184,6 @@ impl FacesByLevel {
         if entries > max_entries {
             return Err(entries);
         }
-        // Faces spanning each level (a prefix sum of the marks), then their starts.
         let mut start = Vec::with_capacity(levels as usize + 1);
         start.push(0);
         let mut spanning = 0i64;
@@ -202,21 +192,43 @@ impl FacesByLevel {
             start.push(start[k] + spanning as usize);
         }
         let mut next = start.clone();
-        let mut faces = vec![0u32; start[levels as usize]];
-        for &f in &surface.faces {
-            let (a, b) = range(f);
+        let mut items = vec![0u32; start[levels as usize]];
+        for id in ids {
+            let (a, b) = clamped(id);
             for k in a..=b {
                 let at = &mut next[k as usize - 1];
-                faces[*at] = f;
+                items[*at] = id;
                 *at += 1;
             }
         }
-        Ok(FacesByLevel { start, faces })
+        Ok(LevelLists { start, items })
     }
 
-    /// The faces level `k` may cross (`1 ≤ k ≤ levels`).
+    /// The active faces each level `k · spacing` may cross: a face is listed under every
+    /// level between its smallest and largest value (and one more at each end: a margin for
+    /// rounding and for [`LEVEL_TOLERANCE`]); faces with an unreached corner under none.
+    pub(crate) fn of_faces(
+        surface: &Surface,
+        values: &[Real],
+        spacing: Real,
+        levels: u32,
+        max_entries: u64,
+    ) -> Result<Self, u64> {
+        let tris = surface.mesh.triangles();
+        LevelLists::new(surface.faces.iter().copied(), levels, max_entries, |f| {
+            let v = tris[f as usize].map(|i| values[i as usize]);
+            if !v.iter().all(|x| x.is_finite()) {
+                return (1.0, 0.0);
+            }
+            let lo = v[0].min(v[1]).min(v[2]) / spacing;
+            let hi = v[0].max(v[1]).max(v[2]) / spacing;
+            (lo.floor(), hi.floor() + 1.0)
+        })
+    }
+
+    /// The items of level `k` (`1 ≤ k ≤ levels`), in the order of the ids given.
     pub(crate) fn of(&self, k: u32) -> &[u32] {
-        &self.faces[self.start[k as usize - 1]..self.start[k as usize]]
+        &self.items[self.start[k as usize - 1]..self.start[k as usize]]
     }
 }
 
@@ -419,7 +431,7 @@ mod tests {
         let surface = Surface::new(&mesh, &adjacency, None).unwrap();
         let spacing = 0.25;
         let levels = 40;
-        let by_level = FacesByLevel::new(&surface, &values, spacing, levels, u64::MAX).unwrap();
+        let by_level = LevelLists::of_faces(&surface, &values, spacing, levels, u64::MAX).unwrap();
         let mut visited = vec![false; mesh.triangle_count()];
         let mut lines = 0;
         for k in 1..=levels {
@@ -436,9 +448,9 @@ mod tests {
         }
         assert!(lines > 40, "{lines} lines");
         // Over its budget, the listing is refused with the number of entries it would hold.
-        let entries = by_level.faces.len() as u64;
+        let entries = by_level.items.len() as u64;
         assert!(matches!(
-            FacesByLevel::new(&surface, &values, spacing, levels, entries - 1),
+            LevelLists::of_faces(&surface, &values, spacing, levels, entries - 1),
             Err(e) if e == entries
         ));
     }

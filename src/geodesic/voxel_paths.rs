@@ -6,9 +6,11 @@
 //!         or at an open end (no voxel within `r`), then walk from the start the other way.
 //! Input:  a voxel field with distances, a level distance, the radius `r`.
 //! Output: ordered polylines (open or closed) with the mean voxel normal at each point.
-//! Cost:   O(B) per level for B band voxels (hash grid of cell `r` instead of a k-d tree:
-//!         the points lie on a lattice of known spacing, so a uniform grid answers a radius
-//!         query in O(1) cells and needs no dependency).
+//! Cost:   O(B) per level for B band voxels, found among the voxels listed under the level
+//!         ([`voxels_by_level`], one pass for all levels), not by a scan of every voxel; a
+//!         hash grid of cell `r` instead of a k-d tree (the points lie on a lattice of known
+//!         spacing, so a uniform grid answers a radius query in O(1) cells and needs no
+//!         dependency).
 //! Deviations: (1) "distance equals k·s" is read as |d − k·s| ≤ L/2. (2) Each new point is
 //!         the centroid of the band voxels within `r` of the stepped point (the literal step
 //!         along the fitted line drifts off curved bands); the line direction is the principal
@@ -16,7 +18,7 @@
 //!         point are removed and walking restarts from the first remaining voxel, so every
 //!         piece of a level becomes a path; walks of fewer than 3 points are dropped as noise.
 
-use super::iso_lines::IsoLine;
+use super::iso_lines::{IsoLine, LevelLists};
 use super::voxel::VoxelField;
 use crate::math::{Point3, Real, Vector3};
 use std::collections::HashMap;
@@ -79,10 +81,37 @@ fn principal(pts: &[Point3], idx: &[usize], centroid: &Point3, guess: &Vector3) 
     }
 }
 
-/// Ordered passes of the voxels at `distance`.
-pub(crate) fn order_level(field: &VoxelField, distance: Real, level: u32) -> Vec<IsoLine> {
+/// The voxels listed under each level `k · spacing` (`k = 1..=levels`) within half an edge
+/// of them (one more level each way, a margin for rounding), or `Err(entries)` beyond
+/// `max_entries` (see [`LevelLists`]).
+pub(crate) fn voxels_by_level(
+    field: &VoxelField,
+    spacing: Real,
+    levels: u32,
+    max_entries: u64,
+) -> Result<LevelLists, u64> {
+    let half = 0.5 * field.size;
+    LevelLists::new(0..field.cells.len() as u32, levels, max_entries, |i| {
+        let d = field.distance[i as usize];
+        (
+            ((d - half) / spacing).ceil() - 1.0,
+            ((d + half) / spacing).floor() + 1.0,
+        )
+    })
+}
+
+/// Ordered passes of the voxels at `distance`, found among `cells` (which must hold every
+/// voxel within half an edge of it, see `LevelLists`).
+pub(crate) fn order_level(
+    field: &VoxelField,
+    distance: Real,
+    level: u32,
+    cells: &[u32],
+) -> Vec<IsoLine> {
     let l = field.size;
-    let band: Vec<usize> = (0..field.cells.len())
+    let band: Vec<usize> = cells
+        .iter()
+        .map(|&i| i as usize)
         .filter(|&i| (field.distance[i] - distance).abs() <= 0.5 * l)
         .collect();
     if band.is_empty() {
@@ -185,4 +214,64 @@ pub(crate) fn order_level(field: &VoxelField, distance: Real, level: u32) -> Vec
         }
     }
     lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geodesic::{geodesic_distance, DistanceParams, GeodesicSource, Method};
+    use crate::mesh::{FaceAdjacency, TriMesh};
+
+    #[test]
+    fn a_level_from_the_voxels_listed_under_it_is_that_from_every_voxel() {
+        // A bumpy open tube, its voxel distance from the bottom ring.
+        let (around, along) = (32usize, 12usize);
+        let mut positions = Vec::new();
+        for j in 0..=along {
+            for i in 0..around {
+                let a = std::f64::consts::TAU * i as Real / around as Real;
+                let r = 10.0 + 0.8 * libm::sin(3.0 * a + 0.5 * j as Real);
+                positions.push(Point3::new(
+                    r * libm::cos(a),
+                    r * libm::sin(a),
+                    2.0 * j as Real,
+                ));
+            }
+        }
+        let id = |i: usize, j: usize| (j * around + i % around) as u32;
+        let mut triangles = Vec::new();
+        for j in 0..along {
+            for i in 0..around {
+                let q = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+                triangles.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+            }
+        }
+        let mesh = TriMesh::new(positions, triangles).unwrap();
+        let adjacency = FaceAdjacency::new(&mesh);
+        let params = DistanceParams {
+            method: Method::Voxel,
+            ..DistanceParams::default()
+        };
+        let source = GeodesicSource::Vertices((0..around as u32).collect());
+        let field = geodesic_distance(&mesh, &adjacency, &source, &params, &mut |_, _| {})
+            .unwrap()
+            .voxels
+            .unwrap();
+        let (spacing, levels) = (0.7, 30);
+        let lists = voxels_by_level(&field, spacing, levels, u64::MAX).unwrap();
+        let every: Vec<u32> = (0..field.cells.len() as u32).collect();
+        let mut lines = 0;
+        for k in 1..=levels {
+            let d = k as Real * spacing;
+            let listed = order_level(&field, d, k, lists.of(k));
+            let all = order_level(&field, d, k, &every);
+            assert_eq!(listed.len(), all.len(), "level {k}");
+            for (a, b) in listed.iter().zip(&all) {
+                assert_eq!(a.points, b.points, "level {k}");
+            }
+            lines += all.len();
+            assert!(lists.of(k).len() < every.len() / 4, "level {k}");
+        }
+        assert!(lines >= levels as usize, "{lines} lines");
+    }
 }
