@@ -373,13 +373,14 @@ pub(crate) fn resolve(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::mesh::{FaceAdjacency, TriMesh};
 
     /// A wavy strip bent into most of a tube (open along one seam when `open`): quads of
-    /// alternating diagonals, so a section crosses faces both ways round.
-    fn tube(open: bool) -> TriMesh {
+    /// alternating diagonals, so a section crosses faces both ways round (24 vertices a
+    /// ring, 11 rings 2 apart).
+    pub(crate) fn tube(open: bool) -> TriMesh {
         let (around, along) = (24usize, 10usize);
         let columns = if open { around + 1 } else { around };
         let mut positions = Vec::new();

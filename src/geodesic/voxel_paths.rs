@@ -220,44 +220,23 @@ pub(crate) fn order_level(
 mod tests {
     use super::*;
     use crate::geodesic::{geodesic_distance, DistanceParams, GeodesicSource, Method};
-    use crate::mesh::{FaceAdjacency, TriMesh};
+    use crate::mesh::FaceAdjacency;
 
     #[test]
     fn a_level_from_the_voxels_listed_under_it_is_that_from_every_voxel() {
-        // A bumpy open tube, its voxel distance from the bottom ring.
-        let (around, along) = (32usize, 12usize);
-        let mut positions = Vec::new();
-        for j in 0..=along {
-            for i in 0..around {
-                let a = std::f64::consts::TAU * i as Real / around as Real;
-                let r = 10.0 + 0.8 * libm::sin(3.0 * a + 0.5 * j as Real);
-                positions.push(Point3::new(
-                    r * libm::cos(a),
-                    r * libm::sin(a),
-                    2.0 * j as Real,
-                ));
-            }
-        }
-        let id = |i: usize, j: usize| (j * around + i % around) as u32;
-        let mut triangles = Vec::new();
-        for j in 0..along {
-            for i in 0..around {
-                let q = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
-                triangles.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
-            }
-        }
-        let mesh = TriMesh::new(positions, triangles).unwrap();
+        // A wavy tube, its voxel distance from the bottom ring.
+        let mesh = crate::geodesic::source::tests::tube(false);
         let adjacency = FaceAdjacency::new(&mesh);
         let params = DistanceParams {
             method: Method::Voxel,
             ..DistanceParams::default()
         };
-        let source = GeodesicSource::Vertices((0..around as u32).collect());
+        let source = GeodesicSource::Vertices((0..24).collect());
         let field = geodesic_distance(&mesh, &adjacency, &source, &params, &mut |_, _| {})
             .unwrap()
             .voxels
             .unwrap();
-        let (spacing, levels) = (0.7, 30);
+        let (spacing, levels) = (0.7, 25);
         let lists = voxels_by_level(&field, spacing, levels, u64::MAX).unwrap();
         let every: Vec<u32> = (0..field.cells.len() as u32).collect();
         let mut lines = 0;
