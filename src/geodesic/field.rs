@@ -10,8 +10,11 @@
 //! consecutive points of a line that coincide (within a millionth of the spacing) are one
 //! pose, and a line that shrinks to one point is left out, so no process-on move has zero
 //! length.
-//! Cost: O(F) per level for the mesh method plus O(P²) over the P lines of one level for
-//! the nearest-line choice (P is small: the pieces of one level).
+//! Cost: O(F + C) for all the levels of the mesh method, C the crossings of faces by levels
+//! (each face is listed under the levels it spans, in one pass; O(V + B) for the voxel
+//! method's V voxels and B band voxels), plus O(P²) over the P lines of one level for the
+//! nearest-line choice (P is small: the pieces of one level). At most 5 million points and
+//! 20 million crossings a call ([`MAX_PATH_POINTS`]), counted before they are made.
 
 use super::iso_lines::{contour_from, IsoLine, LevelLists};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
