@@ -21,14 +21,14 @@
 //!         that meets the limits on the screening samples it bisects upwards, between that
 //!         spacing and the nearest wider spacing tried, which failed, until the bracket is at
 //!         most [`REFINE_TOLERANCE`] of the spacing, then confirms at full resolution: the
-//!         widest spacing the bisection found; when that fails, the widest of the
-//!         narrower spacings the screening met whose screening excess, raised by
-//!         [`OPTIMISM_SHARE`] of the most a failed confirmation exceeded its screening (the
-//!         screening's optimism, measured), is still within the limits (the screening
-//!         misses peaks between its samples, and a failure by a hair at the widest is often
-//!         one at the next too); the last confirmation the candidate itself. The first confirmed is chosen (when none is, the
-//!         next candidate follows). When no spacing
-//!         meets the limits, the widest one whose excess `max(E/E_m, δ/δ_m)` is within
+//!         widest spacing the bisection found; when that fails, the widest of the narrower
+//!         spacings the screening met whose screening excess, raised by [`OPTIMISM_SHARE`]
+//!         of the most a failed confirmation exceeded its screening (the screening's
+//!         optimism, measured), is still within the limits (the screening misses peaks
+//!         between its samples, and a failure by a hair at the widest is often one at the
+//!         next too); the last confirmation the candidate itself. The first confirmed is
+//!         chosen (when none is, the next candidate follows). When no spacing meets the
+//!         limits, the widest one whose excess `max(E/E_m, δ/δ_m)` is within
 //!         [`FALLBACK_MARGIN`] of the smallest excess seen is chosen (evaluated at full
 //!         resolution), not simply the closest one, which is often the narrowest. A
 //!         spacing too narrow to plan within the bounds on work (too many scan planes, or
@@ -300,10 +300,10 @@ pub fn search_spacing(
             .map_or(1.0, |it| screened_excess(it).1);
         confirm.push((b, own));
         // The widest first; after a failure, the widest narrower one whose screening excess,
-        // raised by the most the screening fell short of a failed confirmation (the
-        // screening's optimism measured here), still meets the limits, else the candidate;
-        // the last confirmation is the candidate itself. Each round tries a narrower
-        // spacing, so this ends.
+        // raised by OPTIMISM_SHARE of the most a failed confirmation exceeded its screening
+        // (the screening's optimism, measured here), still meets the limits, else the
+        // candidate; the last confirmation is the candidate itself. Each round tries a
+        // narrower spacing, so this ends.
         let last = confirm.len() - 1;
         let mut from = 0;
         let mut optimism: Real = 0.0;
