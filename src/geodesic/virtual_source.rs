@@ -103,7 +103,7 @@
 //!     the straight line from there: an unfolding carried round a sharp edge (the trailing
 //!     edge of a coarse wing) and on past where it held is refused, not taken.
 //!   - A vertex where the faces around it bend sharply (see `fan_walk.rs`), more than
-//!     [`POINT_AFTER`] mean edges from the source curve, takes the piece of the curve it
+//!     [`settle::POINT_AFTER`] mean edges from the source curve, takes the piece of the curve it
 //!     holds as a point source at the piece's foot (its nearest point, the same distance),
 //!     which is then unfolded around the vertex as point sources are. Turned about the
 //!     vertices of a wing root, a piece carried far along a fuselage is misplaced by the
@@ -137,13 +137,23 @@
 //!     Orion's heat shield split to 91k and 364k faces from x = 0, vertices more than
 //!     0.01 ft beyond exact 440 → 38 and 428 → 20, the most 0.050 → 0.021 and 0.021 →
 //!     0.017 ft, 5–8 % more time at 364k (the walks are bounded as those of `shadow.rs`).
+//!
+//! Layout: here the solver's state, its queue loop and the entry point [`propagate`];
+//! `geometry.rs` the sources, the rotation between faces and ray crossings; `seeding.rs`
+//! the sources laid on the surface; `settle.rs` a settled vertex offering its neighbours;
+//! `offers.rs` an offer and its checks; `run_on.rs`, `follow.rs` the pieces of source
+//! curves; `fan_walk.rs`, `wedge.rs` point sources at sharp vertices; `shadow.rs`,
+//! `round_a_hole.rs` holes; `queue.rs` the priority queue.
 
 mod fan_walk;
 mod follow;
+mod geometry;
+mod offers;
 mod queue;
 mod round_a_hole;
 mod run_on;
 mod seeding;
+mod settle;
 mod shadow;
 mod wedge;
 
@@ -155,12 +165,13 @@ use super::unfolding::is_saddle_or_boundary;
 use super::unfolding::Entry;
 use crate::math::{Point3, Real, Vector3};
 use follow::{CurvePiece, NO_PIECE};
+use geometry::{corners_after, crossing, CROSSING_TOLERANCE};
+pub(super) use geometry::{Rotation, Virtual};
+use offers::{Offered, CONSISTENCY};
 use queue::Queue;
 pub(super) use run_on::{foot, RunOn};
 use wedge::Wedge;
 
-/// Relative slack (of the edge length) for a ray crossing an edge at or near its ends.
-const CROSSING_TOLERANCE: Real = 1e-9;
 /// Source segments searched on each side of a sample when seeding a crossed face.
 const SEED_WINDOW: usize = 4;
 /// A sample of a source curve this near a vertex (in mean edge lengths) lies on it.
@@ -177,36 +188,6 @@ const EXTENSION: Real = 1.0;
 /// Sine of the turn between two pieces of a source curve below which the curve runs
 /// straight on (either way, as rounding has it for the two halves of one edge).
 const STRAIGHT: Real = 1e-9;
-/// How far (in mean edge lengths) a source offered across an edge may fall short of the
-/// distance settled at the edge's other end before the offer is refused (see
-/// [`Solver::offer`]): far above the differences between neighbours' sources on smooth
-/// meshes (the bench's caps and spheres never come near it), far below the shortfall of an
-/// unfolding taken past a cone vertex on the wrong side on a coarse real mesh.
-const CONSISTENCY: Real = 1e-2;
-/// What [`Solver::offer`] offers: the distance along the ray from the source, or, where the
-/// ray leaves the wedge the source holds in (see `wedge.rs`), the path bending at its side,
-/// with a point source there.
-#[derive(Clone, Copy)]
-enum Offered {
-    Ray(Real),
-    Bend(Real, Virtual),
-}
-
-impl Offered {
-    /// The distance and the source `x` would take from `giver`, whose source is `s`.
-    #[inline(always)]
-    fn of(self, s: Virtual, giver: usize) -> (Real, Virtual, usize) {
-        match self {
-            Offered::Ray(d) => (d, s, giver),
-            Offered::Bend(d, bend) => (d, bend, giver),
-        }
-    }
-}
-
-/// Distance from a source curve (in mean edge lengths) beyond which a vertex where the faces
-/// bend sharply takes its segment source as a point source at the segment's foot (2, 5 and
-/// 10 measured the same on the wing-body model's plane sections; no paper).
-const POINT_AFTER: Real = 10.0;
 /// Memory the propagation may hold at most (its worst case is checked before allocating).
 const MAX_BYTES: u64 = 1 << 30;
 /// Relative slack of the lower bound on an offer (far above the rounding of the offer).
@@ -214,112 +195,6 @@ const BOUND_SLACK: Real = 1e-9;
 /// Vertices settled by a call of [`Solver::settle_next`] (the first call is enough to make it
 /// hot in V8, whose optimised code then serves the later calls; see [`Solver::run`]).
 const CHUNK: usize = 1 << 12;
-
-/// A virtual source: distance `sigma + dist(x, [p, q])`, lying in the plane of `face`; the
-/// segment runs on beyond `p` (`run_on[side][0]`) or `q` (`run_on[side][1]`) as far as the
-/// source curve beyond that end allows for the vertices on that side (see [`RunOn`]; side 0
-/// is the left of `p → q` about the face's normal).
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Virtual {
-    pub(super) p: Point3,
-    pub(super) q: Point3,
-    pub(super) sigma: Real,
-    pub(super) face: u32,
-    pub(super) run_on: [[RunOn; 2]; 2],
-}
-
-impl Virtual {
-    /// A point source at `p` with offset `sigma`, in the plane of `face`.
-    pub(super) fn point(p: Point3, sigma: Real, face: u32) -> Self {
-        Virtual {
-            p,
-            q: p,
-            sigma,
-            face,
-            run_on: [[RunOn::NONE; 2]; 2],
-        }
-    }
-}
-
-impl Virtual {
-    /// The distance it offers `x` (in its plane, whose normal is `normal`): `σ` plus the way
-    /// to its nearest point, its segment run on as its ends allow (at most `reach`).
-    #[inline]
-    pub(super) fn distance(&self, x: &Point3, normal: &Vector3, reach: Real) -> Real {
-        self.sigma + (x - foot(x, &self.p, &self.q, &self.run_on, normal, reach)).norm()
-    }
-}
-
-/// The smallest rotation taking unit `n1` to unit `n2` (Rodrigues, with `k = n1 × n2`:
-/// `R w = c·w + k × w + k (k·w) / (1 + c)`, `c = n1·n2`), kept to turn several vectors
-/// between the same two faces.
-#[derive(Clone, Copy)]
-pub(super) struct Rotation {
-    pub(super) c: Real,
-    k: Vector3,
-}
-
-impl Rotation {
-    #[inline(always)]
-    pub(super) fn new(n1: &Vector3, n2: &Vector3) -> Self {
-        Rotation {
-            c: n1.dot(n2),
-            k: n1.cross(n2),
-        }
-    }
-
-    #[inline(always)]
-    pub(super) fn apply(&self, w: Vector3) -> Vector3 {
-        let k = &self.k;
-        w * self.c + k.cross(&w) + k * (k.dot(&w) / (1.0 + self.c))
-    }
-
-    /// The inverse rotation applied to `w`: the rotation from `n2` to `n1` (its axis is
-    /// `−k`; negating is exact, so this equals `Rotation::new(n2, n1).apply(w)` to the bit).
-    #[inline(always)]
-    fn unapply(&self, w: Vector3) -> Vector3 {
-        let k = &self.k;
-        w * self.c - k.cross(&w) + k * (k.dot(&w) / (1.0 + self.c))
-    }
-}
-
-/// Where the ray `f + τ·w` (τ in `[0, 1]`, in the plane of normal `n`) crosses the edge
-/// `pa – pb`: `τ`, or `None` when it misses the edge or runs along its line (then it reaches
-/// the ray's end through `pa` or `pb` only), within [`CROSSING_TOLERANCE`].
-#[inline(always)]
-pub(super) fn crossing(
-    f: &Point3,
-    w: &Vector3,
-    pa: &Point3,
-    pb: &Point3,
-    n: &Vector3,
-) -> Option<Real> {
-    let e = pb - pa;
-    let den = e.cross(w).dot(n);
-    let tol2 = CROSSING_TOLERANCE * CROSSING_TOLERANCE * e.norm_squared();
-    if den * den <= tol2 * w.norm_squared() {
-        return None;
-    }
-    // f + τ w = a + λ e.
-    let fa = f - pa;
-    let lambda = fa.cross(w).dot(n) / den;
-    let tau = fa.cross(&e).dot(n) / den;
-    let within = -CROSSING_TOLERANCE..=1.0 + CROSSING_TOLERANCE;
-    (within.contains(&lambda) && within.contains(&tau)).then_some(tau)
-}
-
-/// The corners of triangle `tri` after its corner `u`, in order.
-#[inline(always)]
-pub(super) fn corners_after(tri: [u32; 3], u: usize) -> (usize, usize) {
-    let (p, q) = if tri[0] as usize == u {
-        (tri[1], tri[2])
-    } else if tri[1] as usize == u {
-        (tri[2], tri[0])
-    } else {
-        (tri[0], tri[1])
-    };
-    (p as usize, q as usize)
-}
 
 pub(super) struct Solver<'a> {
     pub(super) surface: &'a Surface<'a>,
@@ -505,115 +380,6 @@ impl<'a> Solver<'a> {
         }
     }
 
-    /// Distance offered to `x` by source `s` (in the plane of face `t`) when the straight
-    /// segment from its nearest point to `x` crosses edge `[a, b]` of `t` (opposite `x`), and
-    /// the source offers the edge's end `other` (the one it does not come from), if settled,
-    /// no less than it has, within [`CONSISTENCY`]. An offer no better than `x` has is
-    /// returned unchecked (it changes nothing).
-    #[inline(always)]
-    fn offer(
-        &self,
-        s: &Virtual,
-        t: usize,
-        x: usize,
-        a: usize,
-        b: usize,
-        other: usize,
-    ) -> Option<Offered> {
-        let surface = self.surface;
-        let pos = surface.mesh.positions();
-        let (px, pa, pb) = (pos[x], pos[a], pos[b]);
-        let n = &surface.face_normals[t];
-        let f = foot(&px, &s.p, &s.q, &s.run_on, n, self.reach);
-        let w = px - f;
-        let d = s.sigma + w.norm();
-        if d >= self.dist[x] {
-            return Some(Offered::Ray(d));
-        }
-        let tau = crossing(&f, &w, &pa, &pb, n)?;
-        // Near a boundary, a ray that left the surface on its way is refused (see
-        // `shadow.rs`); one that starts on the edge it crosses (a source on a border) is not.
-        // Where the crossed edge's other end holds a path that bent at another hole's rim,
-        // the ray is walked all the way back: it may run along the edge of a hole's shadow,
-        // however far from the hole.
-        let giver = if other == b { a } else { b };
-        if !self.gap_rings.is_empty() && tau > CROSSING_TOLERANCE {
-            let steps = if self
-                .rim
-                .get(other)
-                .is_some_and(|&r| r != shadow::NO_RIM && r != self.rim[giver])
-            {
-                shadow::LONG_WALK
-            } else if usize::from(self.face_gap_rings(t)) < shadow::SHADOW_STEPS {
-                shadow::SHADOW_STEPS
-            } else {
-                0
-            };
-            if steps > 0
-                && self.through_a_gap(&f, &(f + w * tau), (t, a, b), steps, self.exit_slack(s, &f))
-            {
-                return None;
-            }
-        }
-        // A point source walked round a sharp vertex holds only in its wedge (see `wedge.rs`);
-        // beyond it, the path bends at the wedge's side, held to the same checks.
-        if !self.wedge.is_empty() && s.p == s.q && !self.wedge[giver].is_open() {
-            if let Some(bend) = self.beyond_wedge(s, t, &px, giver, other, n) {
-                return bend;
-            }
-        }
-        if !self.holds(d, s, &px, giver, other) {
-            return None;
-        }
-        Some(Offered::Ray(d))
-    }
-
-    /// Whether distance `d` offered to the vertex at `px` by source `s`, handed on by `giver`
-    /// across an edge whose other end is `other`, keeps to the straight line from the source
-    /// vertex and to the distance settled at `other`.
-    #[inline(always)]
-    fn holds(&self, d: Real, s: &Virtual, px: &Point3, giver: usize, other: usize) -> bool {
-        // No path from a source vertex is shorter than the straight line from it: an offer
-        // below it is an unfolding carried round a sharp edge past where it held (the
-        // trailing edge of a coarse wing: 8 m short at 25 m on a BWB model).
-        if !self.origin.is_empty() {
-            let o = self.origins[self.origin[giver] as usize];
-            let reach = d * (1.0 + BOUND_SLACK) + BOUND_SLACK * self.surface.mean_edge;
-            if reach * reach < (px - o).norm_squared() {
-                return false;
-            }
-        }
-        // The source reaches the crossed edge, so it must not offer its settled other end
-        // less than that end has: where it does, it is an unfolding carried past a cone
-        // vertex (a coarse convex corner) on the wrong side, and it falls short of every
-        // path on the surface (no paper: Dijkstra's minimum picks exactly such offers, and
-        // on a coarse wing-body mesh they took a point source's distances 0.6 m below the
-        // exact ones at 7 m, below the straight line). Checked for point sources: a
-        // segment's foot at the other end would cost more (7 % on the bench's 500k cap in
-        // WebAssembly), and the pieces of a source curve lie near the vertices they serve,
-        // with no cone vertex between. Not where the other end lies on a hole's rim: the
-        // straight line to it may cross the hole while the ray to the vertex goes past it
-        // (Orion's heat shield split to 22,776 faces, from x = 0: a row of vertices between
-        // a hole and a notch in its rim, each refused the source on the rim below it, took
-        // the path bending at the last and ended 0.078 ft too long). Nor where the other
-        // end's path bent at a hole's rim: it holds the path round the hole that its
-        // neighbours handed on, an upper bound, and a vertex after it too long refused
-        // every better source after it (the cap R 1000 of 239k faces with a hole 400 mm
-        // across, from a point beyond the hole: 2.0 mm too long there, 0.58 now).
-        if s.p == s.q
-            && self.settled[other]
-            && self.hole_rim.get(other) != Some(&true)
-            && self.rim.get(other).is_none_or(|&r| r == shadow::NO_RIM)
-        {
-            let po = self.surface.mesh.positions()[other];
-            let short = self.dist[other] - CONSISTENCY * self.surface.mean_edge;
-            if s.sigma + (po - s.p).norm() < short {
-                return false;
-            }
-        }
-        true
-    }
-
     fn bends_at(&mut self, u: usize) -> bool {
         if self.bend[u] == 0 {
             self.bend[u] = 1 + is_saddle_or_boundary(self.surface, u) as u8;
@@ -700,129 +466,6 @@ impl<'a> Solver<'a> {
         }
         false
     }
-
-    /// Settled `u` offers its neighbours in every face around it.
-    fn settle(&mut self, u: usize) {
-        let surface = self.surface;
-        let mesh = surface.mesh;
-        let pos = mesh.positions();
-        let mut open = false;
-        let (pu, du) = (pos[u], self.dist[u]);
-        if self.src[u].p != self.src[u].q
-            && du >= POINT_AFTER * surface.mean_edge
-            && self.is_sharp(u, self.src[u].face as usize)
-        {
-            self.source_to_point(u);
-        }
-        let su = self.src[u];
-        // A vertex of a hole's rim whose path bent at the rim offers paths that leave it
-        // further back too (see `up_the_rim`).
-        let round_a_hole = self.hole_rim.get(u) == Some(&true)
-            && self.rim.get(u).is_some_and(|&r| r != shadow::NO_RIM);
-        // Where the faces around u bend sharply, a point source is unfolded around u instead
-        // of turned about it (see `fan_walk.rs`).
-        if su.p == su.q && self.settled_walking(u) {
-            return;
-        }
-        for &t in surface.faces_of(u) {
-            let t = t as usize;
-            let (p, q) = corners_after(mesh.triangles()[t], u);
-            if self.settled[p] && self.settled[q] {
-                continue;
-            }
-            open = true;
-            // Offers are checked first with x turned back about u into the plane of u's
-            // source (the inverse of moving the source, one rotation instead of two for a
-            // segment); most cannot improve x and need no more.
-            // The rotation from the plane of u's source into t's, shared by both neighbours.
-            let normals = &surface.face_normals;
-            let same = su.face as usize == t;
-            let r = Rotation::new(&normals[su.face as usize], &normals[t]);
-            let c = if same { 1.0 } else { r.c };
-            let mut from_u = None;
-            for (x, y) in [(p, q), (q, p)] {
-                if self.settled[x] {
-                    continue;
-                }
-                let ux = pos[x] - pu;
-                let ux_len = ux.norm();
-                let direct = du + ux_len;
-                if c > FOLD_COSINE {
-                    let xb = if same { pos[x] } else { pu + r.unapply(ux) };
-                    let w_len = (xb
-                        - foot(
-                            &xb,
-                            &su.p,
-                            &su.q,
-                            &su.run_on,
-                            &normals[su.face as usize],
-                            self.reach,
-                        ))
-                    .norm();
-                    let lower = su.sigma + w_len;
-                    let slack = BOUND_SLACK * (su.sigma.abs() + w_len + ux_len);
-                    if lower - slack >= self.dist[x] {
-                        // The full offer would be no better than x's distance: only the
-                        // bend at u can change x.
-                        if direct < self.dist[x] && self.bends_at(u) {
-                            self.improve_from(x, direct, Virtual::point(pu, du, t as u32), u);
-                        }
-                        if round_a_hole && x == p {
-                            self.up_the_rim(u, t, x, y);
-                        }
-                        continue;
-                    }
-                }
-                // self.moved(u, t), with the rotation at hand.
-                let from_u = *from_u.get_or_insert_with(|| {
-                    if same {
-                        Some(su)
-                    } else {
-                        (c > FOLD_COSINE).then(|| self.turned(&su, u, t, &r))
-                    }
-                });
-                let mut best = from_u.and_then(|s| Some(self.offer(&s, t, x, u, y, y)?.of(s, u)));
-                // A settled y offered its own source to x across the same edge when it was
-                // settled; it matters again only as the alternative to a bend at u.
-                if best.is_none() && self.settled[y] {
-                    best = self
-                        .handed_on(y, t)
-                        .and_then(|s| Some(self.offer(&s, t, x, u, y, u)?.of(s, y)));
-                }
-                // The path bending at u: a new point source there (exact at saddle and
-                // boundary vertices; elsewhere only when no unfolded ray reaches x).
-                let at_u = Virtual::point(pu, du, t as u32);
-                match best {
-                    Some((d, s, giver)) if !(direct < d && self.bends_at(u)) => {
-                        self.improve_from(x, d, s, giver)
-                    }
-                    _ => self.improve_from(x, direct, at_u, u),
-                }
-                if round_a_hole && x == p {
-                    self.up_the_rim(u, t, x, y);
-                }
-            }
-        }
-        if !open && !surface.faces_of(u).is_empty() {
-            // Every neighbour was nearer: a local maximum, where fronts end.
-            self.maxima.push(u as u32);
-        }
-    }
-
-    /// Replaces the segment source of settled `u` by a point source at its foot (the
-    /// segment's point nearest to `u`, at the same distance), so that it is unfolded around
-    /// `u` as point sources are (see `fan_walk.rs`).
-    #[inline(never)]
-    fn source_to_point(&mut self, u: usize) {
-        let s = self.src[u];
-        let pu = self.surface.mesh.positions()[u];
-        let n = &self.surface.face_normals[s.face as usize];
-        let f = foot(&pu, &s.p, &s.q, &s.run_on, n, self.reach);
-        self.src[u] = Virtual::point(f, s.sigma, s.face);
-        if !self.piece.is_empty() {
-            self.piece[u] = NO_PIECE;
-        }
-    }
 }
 
 /// Geodesic distance per vertex from `source` on the active faces.
@@ -898,41 +541,4 @@ pub(crate) fn propagate(
     )?;
     progress("distance", 1.0);
     Ok(s.dist)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn rotate(w: Vector3, n1: &Vector3, n2: &Vector3) -> Vector3 {
-        Rotation::new(n1, n2).apply(w)
-    }
-
-    #[test]
-    fn the_inverse_rotation_is_the_rotation_back_to_the_bit() {
-        let n1 = Vector3::new(0.1, -0.3, 0.7).normalize();
-        let n2 = Vector3::new(0.4, 0.2, 0.9).normalize();
-        for w in [
-            Vector3::new(0.3, -1.2, 0.05),
-            Vector3::new(-7.0, 0.001, 3.3),
-        ] {
-            let back = rotate(w, &n2, &n1);
-            assert_eq!(Rotation::new(&n1, &n2).unapply(w), back);
-        }
-    }
-
-    #[test]
-    fn rotation_takes_one_normal_to_the_other_and_keeps_lengths() {
-        let n1 = Vector3::new(0.0, 0.0, 1.0);
-        let n2 = Vector3::new(0.6, 0.0, 0.8);
-        let r = rotate(n1, &n1, &n2);
-        assert!((r - n2).norm() < 1e-15);
-        let w = Vector3::new(0.3, -1.2, 0.0);
-        let rw = rotate(w, &n1, &n2);
-        assert!((rw.norm() - w.norm()).abs() < 1e-14);
-        assert!(rw.dot(&n2).abs() < 1e-14, "stays in the new plane");
-        // The axis n1 × n2 = y is fixed.
-        let y = Vector3::new(0.0, 1.0, 0.0);
-        assert!((rotate(y, &n1, &n2) - y).norm() < 1e-15);
-    }
 }
