@@ -76,7 +76,6 @@ impl IsoLine {
         if n < 2 {
             return self.clone();
         }
-        let (pieces, count) = self.pieces(spacing);
         let mut pts = self.points.clone();
         let mut nrm = self.normals.clone();
         if self.closed {
@@ -88,6 +87,7 @@ impl IsoLine {
             cum[i] = cum[i - 1] + (pts[i] - pts[i - 1]).norm();
         }
         let total = cum[pts.len() - 1];
+        let (pieces, count) = self.pieces(total, spacing);
         let (mut points, mut normals) = (Vec::with_capacity(count), Vec::with_capacity(count));
         let mut seg = 0;
         for j in 0..count {
@@ -123,17 +123,13 @@ impl IsoLine {
         if self.points.len() < 2 {
             self.points.len()
         } else {
-            self.pieces(spacing).1
+            self.pieces(self.length(), spacing).1
         }
     }
 
-    /// The pieces and points of the line resampled at `spacing` (at least 3 pieces for a
-    /// closed line, 1 for an open one).
-    fn pieces(&self, spacing: Real) -> (usize, usize) {
-        let mut total: Real = self.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-        if self.closed {
-            total += (self.points[0] - self.points[self.points.len() - 1]).norm();
-        }
+    /// The pieces and points of the line, `total` long, resampled at `spacing` (at least 3
+    /// pieces for a closed line, 1 for an open one).
+    fn pieces(&self, total: Real, spacing: Real) -> (usize, usize) {
         let pieces = ((total / spacing).round() as usize).max(if self.closed { 3 } else { 1 });
         (pieces, if self.closed { pieces } else { pieces + 1 })
     }
