@@ -1,6 +1,7 @@
 // The Drill tool in headless Chromium: the paper's example in one click (its panel becomes
 // the model, the errors uncorrected > bilinear > Coons appear beside the paper's figures),
-// a hole list with a bad row, and the robot-program and hole CSV exports.
+// a hole list with a bad row, the robot-program and hole CSV exports, and references and
+// holes set by clicks on the model.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
@@ -102,5 +103,66 @@ test('the corrected holes export as a RAPID program and as a hole CSV', async ()
   assert.equal(rows.length, 17);
   const [, ...h01] = rows[1].split(',').map(Number);
   assert.ok(Math.abs(Math.hypot(h01[3], h01[4], h01[5]) - 1) < 1e-5, 'unit normals');
+  assert.deepEqual(app.consoleErrors, []);
+});
+
+test('clicks on the model set the four references with the model\'s normals, then add holes, which are corrected', async () => {
+  const { page } = app;
+  // The example's panel, seen from the top (the first test): click around its middle.
+  await page.fill('#drill-holes', '');
+  for (let i = 0; i < 4; i++) {
+    for (const g of ['nom', 'act', 'n']) for (const c of ['x', 'y', 'z']) await page.fill(`#drill-ref-${i}-${g}${c}`, '');
+  }
+  await page.selectOption('#drill-pick', 'ref-0');
+  assert.equal(await page.locator('#viewer canvas').evaluate((c) => c.style.cursor), 'crosshair');
+  const box = await page.locator('#viewer canvas').boundingBox();
+  const at = (dx, dy) => [box.x + box.width / 2 + dx, box.y + box.height / 2 + dy];
+  const corners = [at(-120, -70), at(120, -70), at(120, 70), at(-120, 70)];
+  for (const [i, [x, y]] of corners.entries()) {
+    await page.mouse.click(x, y);
+    await page.waitForFunction((k) => document.getElementById(`drill-ref-${k}-nz`).value !== '', i, { timeout: 30_000 });
+  }
+  await waitForReady(page);
+  // After D the clicks add holes.
+  assert.equal(await page.inputValue('#drill-pick'), 'holes');
+  const value = (id) => page.inputValue(id).then(Number);
+  const refs = [];
+  for (let i = 0; i < 4; i++) {
+    const p = [];
+    const n = [];
+    for (const c of ['x', 'y', 'z']) {
+      p.push(await value(`#drill-ref-${i}-nom${c}`));
+      n.push(await value(`#drill-ref-${i}-n${c}`));
+    }
+    assert.ok(p.every(Number.isFinite), `reference ${i}: ${p}`);
+    assert.ok(Math.abs(Math.hypot(...n) - 1) < 1e-5, `reference ${i}: unit normal ${n}`);
+    refs.push(p);
+  }
+  // Four distinct points, spread over the panel (it is about 1 m wide in mm).
+  for (let i = 0; i < 4; i++) {
+    const d = Math.hypot(...refs[i].map((x, k) => x - refs[(i + 1) % 4][k]));
+    assert.ok(d > 20, `references ${i} and ${(i + 1) % 4} are ${d} mm apart`);
+  }
+  for (const [x, y] of [at(-30, 0), at(30, 10)]) await page.mouse.click(x, y);
+  await page.waitForFunction(() => document.getElementById('drill-holes').value.includes('H02'), null, { timeout: 30_000 });
+  const rows = (await page.inputValue('#drill-holes')).trim().split('\n');
+  assert.equal(rows[0], 'id,x,y,z');
+  assert.deepEqual(rows.slice(1).map((r) => r.split(',')[0]), ['H01', 'H02']);
+  assert.match(await page.textContent('#status'), /Hole H02 added at/);
+  await page.waitForTimeout(200); // the marks of the form's references and holes
+  await page.screenshot({ path: join(outputDir, 'drill-picking.png') });
+  // Measured = nominal moved by 0.5 mm along x everywhere: each hole moves by about that.
+  for (let i = 0; i < 4; i++) {
+    for (const [k, c] of ['x', 'y', 'z'].entries()) await page.fill(`#drill-ref-${i}-act${c}`, String(refs[i][k] + (k === 0 ? 0.5 : 0)));
+  }
+  await page.click('#drill-run');
+  await page.waitForFunction(() => document.querySelectorAll('#drill-table tbody tr').length === 2, null, { timeout: 30_000 });
+  await waitForReady(page);
+  assert.match(await page.textContent('#drill-summary'), /^2 holes corrected by the Coons patch on paper_60deg_panel\.stl\.$/);
+  const moved = await page.locator('#drill-table tbody tr td:nth-child(5)').allTextContents();
+  for (const m of moved.map(Number)) assert.ok(Math.abs(m - 0.5) < 0.05, `a hole moved ${m} mm, the references 0.5 mm`);
+  await page.screenshot({ path: join(outputDir, 'drill-picked.png') });
+  await page.selectOption('#drill-pick', 'off');
+  assert.equal(await page.locator('#viewer canvas').evaluate((c) => c.style.cursor), '');
   assert.deepEqual(app.consoleErrors, []);
 });

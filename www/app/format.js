@@ -28,6 +28,14 @@ export function metresText(m) {
   return `${num(m * 1e6, 3)} µm`;
 }
 
+/**
+ * A point `(x, y, z)` with `digits` significant figures and no grouping (a grouping comma
+ * would read as another coordinate).
+ */
+export function pointText(p, digits = 6) {
+  return `(${p.map((x) => fieldText(x, digits)).join(', ')})`;
+}
+
 /** Short text for a form field: no 0.35000000000000003 (and 6 digits are plenty for degrees). */
 export function fieldText(x, digits = 10) {
   return String(Number(x.toPrecision(digits)));

@@ -1,13 +1,13 @@
 // Drill tool (seed 004): four reference holes (nominal and measured positions, normals typed,
 // taken from the model or computed from four laser readings), a list of holes to drill
-// (`id,x,y,z`), their positions corrected by the Coons error surface (and the bilinear
-// baseline beside it), drawn on the panel, tabulated, and exported as a hole CSV or a robot
-// program (ABB RAPID, KUKA KRL, tool-path CSV/JSON). The built-in example is the paper's 60°
-// cylindrical sector. Lengths are in the file's unit throughout (robot programs in mm);
-// the worker side is worker/drill.js.
+// (`id,x,y,z`: typed, read from a CSV or clicked on the model), their positions corrected by
+// the Coons error surface (and the bilinear baseline beside it), drawn on the panel,
+// tabulated, and exported as a hole CSV or a robot program (ABB RAPID, KUKA KRL, tool-path
+// CSV/JSON). The built-in example is the paper's 60° cylindrical sector. Lengths are in the
+// file's unit throughout (robot programs in mm); the worker side is worker/drill.js.
 import { CancelledError } from '../app/engine.js';
 import { download, fileStem } from '../app/download.js';
-import { num } from '../app/format.js';
+import { num, pointText } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
 import { cellHtml, cellOptions, mountCell, renderCell } from '../app/cell.js';
 
@@ -50,6 +50,12 @@ const PANEL = `
   <p class="hint">Four measured reference holes correct the nominal holes for the panel's real shape
     (Coons error surface, Bi et al. 2015). Lengths in the file unit (<span data-unit="length"></span>).</p>
   <div class="form-actions"><button type="button" id="drill-example-button">Paper's example (60° panel)</button></div>
+  <label class="field choice"><span>Clicks on the model</span><select id="drill-pick" aria-describedby="drill-pick-hint">
+    <option value="off">select patches only</option>
+    ${NAMES.map((n, i) => `<option value="ref-${i}">set reference ${n}, then the next</option>`).join('')}
+    <option value="holes">add holes to drill</option></select></label>
+  <p class="hint" id="drill-pick-hint">A reference takes the clicked point as its nominal position and the model's normal
+    there; type its measured position. After D, clicks add holes to the list.</p>
   <fieldset><legend>Reference holes A, B, C, D (in order around the region, A→B across the flight direction)</legend>
     <table class="drill-refs" id="drill-refs">
       <thead><tr><th></th><th scope="col">x</th><th scope="col">y</th><th scope="col">z</th></tr></thead>
@@ -145,6 +151,8 @@ class DrillTool {
   #example = null; // DrillPaperExample while its panel is on screen
   #pendingExample = null;
   #frameExample = false; // look at the example's panel from outside once its holes are drawn
+  #listening = false; // the viewer's picks reach #onPick
+  #pendingDraw = 0; // the latest drawing of the form's references and holes (older answers are dropped)
 
   mount(shell, { panel, results, overlay }) {
     this.#shell = shell;
@@ -331,6 +339,7 @@ class DrillTool {
     for (const b of document.querySelectorAll('#drill-export-heading + .export-buttons button')) b.disabled = !has;
     if (!has) {
       $('drill-summary').textContent = 'No correction yet: fill the references and holes, or press Paper\'s example.';
+      this.#renderLegend();
       return;
     }
     const method = this.#s[`${P}method`];
@@ -459,13 +468,126 @@ class DrillTool {
 
   #showLayers(visible) {
     for (const id of ['refs', 'nominal', 'corrected', 'vectors']) this.#shell.viewer.setLayerVisible(`drill.${id}`, visible && Boolean(this.#result));
+    this.#shell.viewer.setLayerVisible('drill.form', visible && !this.#result);
     this.#overlay.hidden = !visible || !this.#result;
+    this.#syncCursor(visible);
   }
 
   #clear() {
     this.#result = null;
     this.#draw();
     this.#renderResults();
+    this.#drawForm();
+  }
+
+  // ---------------------------------------------------------------- clicks on the model
+
+  #pickMode() {
+    return $('drill-pick').value;
+  }
+
+  #setPickMode(mode) {
+    $('drill-pick').value = mode;
+    this.#syncCursor();
+  }
+
+  /** A crosshair over the model while clicks there set references or add holes. */
+  #syncCursor(active = this.#shell.activeTool === this) {
+    const canvas = this.#shell.viewer?.canvas;
+    if (canvas) canvas.style.cursor = active && this.#pickMode() !== 'off' ? 'crosshair' : '';
+  }
+
+  /** A click on the model at `point` (model coordinates), as the pick mode says. */
+  #onPick(point) {
+    const mode = this.#pickMode();
+    if (this.#shell.activeTool !== this || mode === 'off' || !point) return;
+    if (this.#result) this.#clear(); // the result on screen would no longer match the form
+    const at = `${pointText(point)} ${this.#shell.unitOf.length()}`;
+    if (mode === 'holes') {
+      const id = this.#addHole(point);
+      this.#shell.setStatus(`Hole ${id} added at ${at}.`);
+      this.#drawForm();
+      return;
+    }
+    const i = Number(mode.slice('ref-'.length));
+    this.#setVec(`drill-ref-${i}-nom`, point);
+    this.#setVec(`drill-ref-${i}-n`, null);
+    this.#setPickMode(i < NAMES.length - 1 ? `ref-${i + 1}` : 'holes');
+    this.#drawForm();
+    this.#job(`Reading the model's normal at reference ${NAMES[i]}`, async (progress) => {
+      const found = await this.#shell.engine.request('drill.meshNormals', { points: point }, { onProgress: progress });
+      // A later click on the same reference wins.
+      if (this.#vec(`drill-ref-${i}-nom`)?.every((x, k) => x === Number(point[k].toFixed(6)))) {
+        this.#setVec(`drill-ref-${i}-n`, Array.from(found.normals.slice(0, 3)), 6);
+      }
+      this.#shell.setStatus(`Reference ${NAMES[i]} set at ${at} with the model's normal there: enter its measured position.`);
+      this.#drawForm();
+    });
+  }
+
+  /** Appends a row for `point` to the hole list, under the first free id H01, H02…: the id. */
+  #addHole(point) {
+    const area = $('drill-holes');
+    const text = area.value.replace(/\s+$/, '');
+    const taken = new Set(text.split('\n').map((line) => line.split(/[,;\t]/)[0].trim()));
+    let k = 1;
+    while (taken.has(`H${String(k).padStart(2, '0')}`)) k++; // at most one past the rows
+    const id = `H${String(k).padStart(2, '0')}`;
+    area.value = `${text === '' ? 'id,x,y,z' : text}\n${id},${point.map((x) => Number(x.toFixed(6))).join(',')}\n`;
+    return id;
+  }
+
+  /**
+   * Before a correction: the form's reference nominal positions and holes, marked on the
+   * model (the holes as the engine reads the list), so that clicked and typed positions show
+   * where they are.
+   */
+  async #drawForm() {
+    const shell = this.#shell;
+    const viewer = shell.viewer;
+    const token = ++this.#pendingDraw;
+    const report = shell.state.model?.report;
+    if (!viewer || !report || this.#result) {
+      viewer?.removeLayer('drill.form');
+      return;
+    }
+    let list = null;
+    if ($('drill-holes').value.trim() !== '' && shell.engine) {
+      try {
+        list = await shell.engine.request('drill.parseHoles', { text: $('drill-holes').value });
+      } catch {
+        // drawn without the holes (the engine is restarting); a run reports the list
+      }
+    }
+    if (token !== this.#pendingDraw || this.#result) return;
+    if (list) this.#renderHoleReport(list);
+    else if ($('drill-holes').value.trim() === '') $('drill-holes-report').textContent = '';
+    const holes = list?.positions ?? [];
+    const h = Math.hypot(...[0, 1, 2].map((k) => report.bboxMax[k] - report.bboxMin[k])) * MARKER;
+    const positions = [];
+    const colors = [];
+    const star = (p, rgb) => {
+      for (let k = 0; k < 3; k++) {
+        const a = [...p];
+        const b = [...p];
+        a[k] -= h;
+        b[k] += h;
+        positions.push(...a, ...b);
+        colors.push(...rgb, ...rgb);
+      }
+    };
+    const rgb = (hex) => [1, 3, 5].map((k) => parseInt(hex.slice(k, k + 2), 16));
+    NAMES.forEach((_, i) => {
+      const p = this.#vec(`drill-ref-${i}-nom`);
+      if (p) star(p, rgb(COLORS.reference));
+    });
+    for (let i = 0; i + 2 < holes.length; i += 3) star([holes[i], holes[i + 1], holes[i + 2]], rgb(COLORS.nominal));
+    if (positions.length === 0) {
+      viewer.removeLayer('drill.form');
+      return;
+    }
+    viewer.setLayer('drill.form', { kind: 'lines', positions: Float32Array.from(positions), colors: Uint8Array.from(colors) });
+    viewer.setLayerVisible('drill.form', shell.activeTool === this);
   }
 
   // ---------------------------------------------------------------- normals
@@ -597,10 +719,17 @@ class DrillTool {
       if (!file) return;
       $('drill-holes').value = await file.text();
       event.target.value = '';
-      this.#job('Reading the hole list', async (progress) => this.#renderHoleReport(await this.#parseHoles(progress)));
+      this.#job('Reading the hole list', async (progress) => {
+        this.#renderHoleReport(await this.#parseHoles(progress));
+        if (this.#result) this.#clear(); // the list on screen is no longer the one corrected
+        else this.#drawForm();
+      });
     });
+    $('drill-pick').addEventListener('change', () => this.#syncCursor());
     panel.addEventListener('change', (event) => {
+      if (event.target.id === 'drill-pick') return;
       this.#save();
+      if (!this.#result) this.#drawForm();
       if (event.target.name === 'drill-method' && this.#result) {
         this.#renderResults();
         this.#draw();
@@ -643,7 +772,13 @@ class DrillTool {
   }
 
   onActivate() {
+    const viewer = this.#shell.viewer;
+    if (viewer && !this.#listening) {
+      this.#listening = true;
+      viewer.addEventListener('pick', (event) => this.#onPick(event.detail.point));
+    }
     this.#showLayers(true);
+    this.#drawForm();
     this.#validate();
   }
 

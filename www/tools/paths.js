@@ -9,7 +9,7 @@
 // unit; the worker (worker/paths.js) gets file units.
 import { CancelledError } from '../app/engine.js';
 import { download, fileStem } from '../app/download.js';
-import { fieldText, integer, num } from '../app/format.js';
+import { fieldText, integer, num, pointText } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
 import { cellHtml, cellOptions, mountCell, renderCell } from '../app/cell.js';
 import { viridis, viridisInto } from '../app/colours.js';
@@ -268,7 +268,7 @@ class PathsTool {
     if (!el) return;
     const u = this.#shell.unitOf.length();
     el.textContent = this.#point
-      ? `Point: (${this.#point.map((x) => num(x, 4)).join(', ')}) ${u}. Click the surface to move it. The piece of the section nearest the point is the source.`
+      ? `Point: ${pointText(this.#point)} ${u}. Click the surface to move it. The piece of the section nearest the point is the source.`
       : 'Point: the model\'s centre. Click the surface to choose one. The piece of the section nearest the point is the source.';
   }
 
