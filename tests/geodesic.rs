@@ -111,6 +111,91 @@ fn a_level_on_the_rim_gives_one_ring_for_every_method() {
 }
 
 #[test]
+fn a_plane_section_and_passes_broken_at_edges_of_three_faces_are_whole() {
+    // Fins and slivers (zero-area triangles) glued along vertical edges of the cylinder, on
+    // opposite sides, where the plane z = 47.5 cuts it and where the pass 10 mm from it
+    // does (z = 57.5): each of those edges has three faces, so the walk along a level stops
+    // there and a circle comes in two halves (and a piece on the fin), whose ends meet. Real
+    // aircraft files have such edges (the 747 model 113). The source is the whole section,
+    // so on the cylinder the distance is |z − 47.5| (a front parallel to the rings: every
+    // method gets it to rounding); from the nearest half alone it was up to 78 mm longer on
+    // the far side. And each pass is one closed ring, not two halves.
+    let (around, along) = (48usize, 24usize);
+    let base = cylinder(around, along);
+    let mut positions = base.mesh.positions().to_vec();
+    let mut triangles = base.mesh.triangles().to_vec();
+    let id = |i: usize, j: usize| (j * around + i) as u32;
+    let plane_z = 47.5; // in the band of rings 9 and 10 (z = 45, 50)
+    for band in [9, 11] {
+        for (i, out) in [(0usize, 5.0), (around / 2, 0.0)] {
+            let (a, d) = (id(i, band), id(i, band + 1));
+            let (pa, pd) = (positions[a as usize], positions[d as usize]);
+            let radial = Point3::new(pa.x, pa.y, 0.0).coords.normalize();
+            positions.push(pa + (pd - pa) / 3.0 + radial * out);
+            triangles.push([a, (positions.len() - 1) as u32, d]);
+        }
+    }
+    let s = shape(positions, triangles);
+    let cylinder_vertices = around * (along + 1);
+    let plane = GeodesicSource::Plane {
+        point: Point3::new(R, 0.0, plane_z),
+        normal: skinpath::math::Vector3::z(),
+    };
+    let polygon = 2.0 * around as Real * R * libm::sin(PI / around as Real);
+    for method in [Method::Exact, Method::Accurate, Method::Fast] {
+        let params = DistanceParams {
+            method,
+            ..DistanceParams::default()
+        };
+        let field = distance(&s, &plane, &params);
+        let d = &field.vertex_distance;
+        let worst = (0..cylinder_vertices)
+            .map(|v| (d[v] - (s.mesh.positions()[v].z - plane_z).abs()).abs())
+            .fold(0.0, Real::max);
+        assert!(
+            worst < 1e-9,
+            "{method:?}: off |z − 47.5| by up to {worst} mm"
+        );
+        // Levels 1 and 2 lie inside the band the plane cuts, where the vertices' distances
+        // are all 2.5: the first pass is level 3.
+        let ls = lines(&s, &field, 1.0, Some(10));
+        let rings: Vec<&IsoLine> = ls.iter().filter(|l| l.closed).collect();
+        assert_eq!(
+            rings.len(),
+            16,
+            "{method:?}: two rings a level from 3 to 10"
+        );
+        for l in rings {
+            let dz = l
+                .points
+                .iter()
+                .map(|p| ((p.z - plane_z).abs() - l.distance).abs());
+            assert!(
+                dz.fold(0.0, Real::max) < 1e-9,
+                "{method:?}: level {}",
+                l.level
+            );
+            // Resampled every 0.25 mm, the ring cuts the polygon's corners by a hair.
+            let short = polygon - l.length();
+            assert!(
+                (0.0..0.05).contains(&short),
+                "{method:?}: level {} {short} short",
+                l.level
+            );
+        }
+        // The rest are pieces on the fins.
+        for l in ls.iter().filter(|l| !l.closed) {
+            let r = l.points.iter().map(|p| p.x.hypot(p.y)).fold(0.0, Real::max);
+            assert!(
+                r > R + 0.1,
+                "{method:?}: an open line of level {} on the cylinder",
+                l.level
+            );
+        }
+    }
+}
+
+#[test]
 fn cylinder_generator_source_gives_lines_on_both_sides() {
     let s = cylinder(160, 60);
     // Between two vertex columns, so the source crosses faces.

@@ -16,7 +16,7 @@
 //! nearest-line choice (P is small: the pieces of one level). At most 5 million points and
 //! 20 million crossings a call ([`MAX_PATH_POINTS`]), counted before they are made.
 
-use super::iso_lines::{contour_from, IsoLine, LevelLists};
+use super::iso_lines::{contour_from, joined_at_ends, IsoLine, LevelLists, JOIN_TOLERANCE};
 use super::params::{DistanceParams, GeodesicError, LinkOrder, Method, PathParams, Progress};
 use super::source::{boundary_loops, resolve, GeodesicSource};
 use super::surface::{Derived, Surface, SurfaceCache};
@@ -314,12 +314,15 @@ impl DistanceField {
             let d = k as Real * params.spacing;
             let lines = match &self.voxels {
                 Some(field) => order_level(field, d, k, lists.of(k)),
-                None => contour_from(
-                    &surface,
-                    &self.vertex_distance,
-                    d,
-                    lists.of(k),
-                    &mut visited,
+                None => joined_at_ends(
+                    contour_from(
+                        &surface,
+                        &self.vertex_distance,
+                        d,
+                        lists.of(k),
+                        &mut visited,
+                    ),
+                    JOIN_TOLERANCE * surface.mean_edge,
                 ),
             };
             for mut line in lines {

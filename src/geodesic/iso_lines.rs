@@ -11,17 +11,23 @@
 //! Deviations: none. A vertex at the level counts as above it, so every edge is cut at most
 //!         once and both faces of an edge agree; "at" allows a relative `LEVEL_TOLERANCE`, so
 //!         a row of vertices lying on the level up to rounding (a rim at a multiple of the
-//!         spacing) gives one line through them, not fragments weaving across it; segments are chained through the face
-//!         adjacency, so a polyline is closed exactly when it comes back to its first face.
+//!         spacing) gives one line through them, not fragments weaving across it; segments are
+//!         chained through the face adjacency, so a polyline is closed exactly when it comes
+//!         back to its first face; a walk that meets only faces of no area gives no line. The
+//!         walk stops at an edge of three faces, so the passes of a distance field are joined
+//!         end to end where their ends meet ([`joined_at_ends`]; the plane source joins its
+//!         pieces the same way).
 
 use super::surface::Surface;
 use crate::math::{any_perpendicular, Point3, Real, Vector3};
+use crate::mesh::is_degenerate;
+use rustc_hash::FxHashMap;
 
 /// Relative distance from the level (of `max(|level|, 1)`) within which a vertex is on it.
 const LEVEL_TOLERANCE: Real = 1e-9;
 
 /// One polyline of a level set (or a pass of the voxel method), with a normal per point.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct IsoLine {
     /// Level index `k` (the line is at distance `k · spacing`; 0 for other uses).
     pub level: u32,
@@ -133,6 +139,171 @@ impl IsoLine {
         let pieces = ((total / spacing).round() as usize).max(if self.closed { 3 } else { 1 });
         (pieces, if self.closed { pieces } else { pieces + 1 })
     }
+}
+
+/// Ends of lines closer than this (in mean edge lengths) meet ([`joined_at_ends`] and the
+/// plane source's pieces).
+pub(crate) const JOIN_TOLERANCE: Real = 1e-4;
+
+/// Points (the ends of lines), hashed in cubes of the tolerance, so that those near a point
+/// are found in O(1): each point under an id of the caller's.
+pub(crate) struct Ends {
+    cells: FxHashMap<[i64; 3], Vec<(u32, Point3)>>,
+    tolerance: Real,
+}
+
+impl Ends {
+    pub(crate) fn new(ends: impl Iterator<Item = (u32, Point3)>, tolerance: Real) -> Ends {
+        let mut index = Ends {
+            cells: FxHashMap::default(),
+            tolerance,
+        };
+        for (id, p) in ends {
+            index.cells.entry(index.cell(&p)).or_default().push((id, p));
+        }
+        index
+    }
+
+    /// Cube of a point; a float out of range saturates (a cube far away, still one).
+    fn cell(&self, p: &Point3) -> [i64; 3] {
+        p.coords
+            .map(|c| libm::floor(c / self.tolerance) as i64)
+            .into()
+    }
+
+    /// The ids of the points within the tolerance of `p`, in a fixed order (cube by cube,
+    /// each in the order given).
+    pub(crate) fn near(&self, p: &Point3) -> impl Iterator<Item = u32> + '_ {
+        let c = self.cell(p);
+        let p = *p;
+        (0..27)
+            .filter_map(move |k| {
+                let d = [k / 9 - 1, k / 3 % 3 - 1, k % 3 - 1];
+                self.cells.get(&[
+                    c[0].saturating_add(d[0]),
+                    c[1].saturating_add(d[1]),
+                    c[2].saturating_add(d[2]),
+                ])
+            })
+            .flatten()
+            .filter(move |(_, q)| (q - p).norm() <= self.tolerance)
+            .map(|&(id, _)| id)
+    }
+}
+
+/// The lines of one level with the open ones joined end to end: a line closes when its ends
+/// meet. The walk along a level stops at an edge with no single face across (an edge of
+/// three faces: a sliver or a fin glued along it), so one pass round a fuselage can come in
+/// pieces whose ends meet (ends within `tolerance` meet); joined, it is one pass, not
+/// pieces with the process switched off and on between them. A line closes rather than
+/// goes on when its ends meet; where more ends meet, it goes on along the line that turns
+/// least; lines of no length (a sliver's) are dropped once they have served as joints.
+/// Points within `tolerance` of the one before are dropped where lines join. O(lines +
+/// points).
+pub(crate) fn joined_at_ends(mut lines: Vec<IsoLine>, tolerance: Real) -> Vec<IsoLine> {
+    let open = |l: &IsoLine| !l.closed && !l.points.is_empty();
+    if !lines.iter().any(open) {
+        return lines;
+    }
+    // End 2i is the first point of line i, end 2i + 1 its last.
+    let ends = Ends::new(
+        lines
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| open(l))
+            .flat_map(|(i, l)| {
+                let (first, last) = (l.points[0], l.points[l.points.len() - 1]);
+                [(2 * i as u32, first), (2 * i as u32 + 1, last)]
+            }),
+        tolerance,
+    );
+    // The unit direction of a line leaving end `id` (zero for a line of no length).
+    let leaving = |lines: &[IsoLine], id: u32| -> Vector3 {
+        let points = &lines[id as usize / 2].points;
+        let mut from_end: Box<dyn Iterator<Item = &Point3>> = if id % 2 == 0 {
+            Box::new(points.iter())
+        } else {
+            Box::new(points.iter().rev())
+        };
+        let Some(&end) = from_end.next() else {
+            return Vector3::zeros();
+        };
+        from_end
+            .find(|p| (*p - end).norm() > tolerance)
+            .map_or(Vector3::zeros(), |p| (p - end).normalize())
+    };
+    let closes = |l: &IsoLine| {
+        let n = l.points.len();
+        n >= 3 && (l.points[0] - l.points[n - 1]).norm() <= tolerance
+    };
+    let mut used: Vec<bool> = lines.iter().map(|l| !open(l)).collect();
+    let mut out = Vec::with_capacity(lines.len());
+    for i in 0..lines.len() {
+        if used[i] {
+            if !lines[i].points.is_empty() && !open(&lines[i]) {
+                out.push(std::mem::take(&mut lines[i]));
+            }
+            continue;
+        }
+        used[i] = true;
+        let mut line = std::mem::take(&mut lines[i]);
+        // Forwards from the last point, then (reversed) from the first; each step uses a line
+        // not used before, so the loops end.
+        let mut reversed = false;
+        for _ in 0..2 {
+            while !closes(&line) {
+                let n = line.points.len();
+                let tail = line.points[n - 1];
+                let arriving = if n >= 2 {
+                    (tail - line.points[n - 2])
+                        .try_normalize(0.0)
+                        .unwrap_or_default()
+                } else {
+                    Vector3::zeros()
+                };
+                let mut best: Option<(Real, u32)> = None;
+                for id in ends.near(&tail).filter(|&id| !used[id as usize / 2]) {
+                    let straight = arriving.dot(&leaving(&lines, id));
+                    if best.is_none_or(|(b, _)| straight > b) {
+                        best = Some((straight, id));
+                    }
+                }
+                let Some((_, id)) = best else { break };
+                let j = id as usize / 2;
+                used[j] = true;
+                let mut next = std::mem::take(&mut lines[j]);
+                if id % 2 == 1 {
+                    next.points.reverse();
+                    next.normals.reverse();
+                }
+                for (p, n) in next.points.into_iter().zip(next.normals) {
+                    if (p - line.points[line.points.len() - 1]).norm() > tolerance {
+                        line.points.push(p);
+                        line.normals.push(n);
+                    }
+                }
+            }
+            if closes(&line) {
+                break;
+            }
+            line.points.reverse();
+            line.normals.reverse();
+            reversed = !reversed;
+        }
+        if reversed {
+            line.points.reverse();
+            line.normals.reverse();
+        }
+        if closes(&line) {
+            line.points.pop();
+            line.normals.pop();
+            line.closed = true;
+        } else if line.length() <= tolerance {
+            continue;
+        }
+        out.push(line);
+    }
+    out
 }
 
 /// Items listed under the levels `k = 1..=levels` each may belong to (a face under the
@@ -348,7 +519,13 @@ fn contour_with_faces_from(
         chain.extend_from_slice(&halves[0]);
         // A closed walk ends on the crossing of slots0[0], the edge it started from: the
         // polyline closes back to its first point without repeating it.
-        if chain.len() >= 2 {
+        // A walk that met only faces of no area (a sliver's, its lone corner's value got
+        // through them alone) runs along an edge, not across the surface: no line.
+        let on_surface = chain.iter().any(|c| {
+            let t = mesh.triangles()[c.2 as usize];
+            !is_degenerate(t.map(|v| mesh.positions()[v as usize]))
+        });
+        if chain.len() >= 2 && on_surface {
             // Walking back, a point's face holds the segment to the next point (towards f0);
             // walking on, the next point's face holds it. The closing segment lies in f0,
             // the face of the first point of a closed walk (which only the first half makes).
@@ -449,5 +626,53 @@ mod tests {
             LevelLists::of_faces(&surface, &values, spacing, levels, entries - 1),
             Err(e) if e == entries
         ));
+    }
+
+    /// An open line through `points` (level 1, normals +z).
+    fn open_line(points: &[[Real; 3]]) -> IsoLine {
+        IsoLine {
+            level: 1,
+            distance: 1.0,
+            closed: false,
+            points: points
+                .iter()
+                .map(|&[x, y, z]| Point3::new(x, y, z))
+                .collect(),
+            normals: vec![Vector3::z(); points.len()],
+        }
+    }
+
+    #[test]
+    fn pieces_whose_ends_meet_are_joined_and_closed_turning_least() {
+        // A square in four pieces, two of them the wrong way round, one end a hair off; a
+        // fin leaves the square's corner (1, 0) turning back by 135°, and a piece of no length
+        // (a sliver's) lies at the corner (1, 1).
+        let hair = 1e-9;
+        let lines = vec![
+            open_line(&[[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [1.0, 0.0, 0.0]]),
+            open_line(&[[1.0, 0.0, 0.0], [0.5, 0.0, 0.5]]), // the fin, turning back
+            open_line(&[[1.0, 1.0, 0.0], [1.0, hair, 0.0]]),
+            open_line(&[[1.0, 1.0, 0.0], [1.0, 1.0, 0.0]]),
+            open_line(&[[0.0, 1.0, 0.0], [1.0, 1.0, 0.0]]),
+            open_line(&[[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]),
+        ];
+        let out = joined_at_ends(lines, 1e-6);
+        assert_eq!(out.len(), 2, "{out:?}");
+        let square = &out[0];
+        assert!(square.closed);
+        let corners: Vec<[Real; 2]> = square.points.iter().map(|p| [p.x, p.y]).collect();
+        assert_eq!(
+            corners,
+            [[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            "the first piece's way round, each corner once"
+        );
+        assert_eq!(square.normals.len(), square.points.len());
+        assert!(!out[1].closed && out[1].points[1] == Point3::new(0.5, 0.0, 0.5));
+        // Lines whose ends do not meet are left as they are.
+        let apart = vec![
+            open_line(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
+            open_line(&[[1.1, 0.0, 0.0], [2.0, 0.0, 0.0]]),
+        ];
+        assert_eq!(joined_at_ends(apart.clone(), 1e-6), apart);
     }
 }

@@ -5,11 +5,13 @@
 //! subdivided (and its samples snapped) so consecutive samples are at most a fraction of an
 //! edge apart; a boundary loop is chained from the edges of the active faces that have no
 //! active face across; a plane section is the zero level set of the signed distance to the
-//! plane (the iso-line code), keeping the piece that passes nearest to the plane's point (its
-//! segments lie in known faces, so it is subdivided without snapping).
+//! plane (the iso-line code), keeping the piece that passes nearest to the plane's point with
+//! every piece joined to it end to end (the walk along a level set stops at an edge of three
+//! faces, and real files have them: one cut of a fuselage came in two halves); its segments
+//! lie in known faces, so it is subdivided without snapping.
 //! Cost: O(F) plus a closest-point query per sample.
 
-use super::iso_lines::contour_with_faces;
+use super::iso_lines::{contour_with_faces, Ends, IsoLine, JOIN_TOLERANCE};
 use super::params::GeodesicError;
 use super::surface::{FaceGrid, Surface};
 use crate::math::{Compact, Point3, Real, Vector3};
@@ -257,6 +259,43 @@ fn snap_polyline(
     Ok(curve)
 }
 
+/// The pieces of a section joined end to end to piece `first`, directly or through others,
+/// `first` included, in increasing order. The level-set walk stops where an edge has no
+/// single face across (an edge of three faces, such as a sliver glued along it), so one cut
+/// of the surface can come as several pieces whose ends meet (within `tolerance`); they are
+/// one section. O(pieces).
+fn joined_pieces(lines: &[(IsoLine, Vec<u32>)], first: usize, tolerance: Real) -> Vec<usize> {
+    let open = |i: usize| !lines[i].0.closed && !lines[i].0.points.is_empty();
+    let ends = |i: usize| {
+        let points = &lines[i].0.points;
+        [points[0], points[points.len() - 1]]
+    };
+    let index = Ends::new(
+        (0..lines.len())
+            .filter(|&i| open(i))
+            .flat_map(|i| ends(i).map(|p| (i as u32, p))),
+        tolerance,
+    );
+    let mut taken = vec![false; lines.len()];
+    taken[first] = true;
+    let mut queue = vec![first];
+    // Each piece enters the queue once.
+    while let Some(i) = queue.pop() {
+        if !open(i) {
+            continue;
+        }
+        for end in ends(i) {
+            for j in index.near(&end) {
+                if !taken[j as usize] {
+                    taken[j as usize] = true;
+                    queue.push(j as usize);
+                }
+            }
+        }
+    }
+    (0..lines.len()).filter(|&i| taken[i]).collect()
+}
+
 /// Turns a [`GeodesicSource`] into dense on-surface curves and vertices.
 pub(crate) fn resolve(
     surface: &Surface,
@@ -351,22 +390,31 @@ pub(crate) fn resolve(
                 .map(|p| n.dot(&(p - point)))
                 .collect();
             let lines = contour_with_faces(surface, &values, 0.0);
-            let nearest = lines.iter().min_by(|a, b| {
-                let d = |l: &&(super::IsoLine, Vec<u32>)| {
-                    l.0.points
+            let nearest = (0..lines.len()).min_by(|&a, &b| {
+                let d = |i: usize| {
+                    lines[i]
+                        .0
+                        .points
                         .iter()
                         .map(|p| (p - point).norm())
                         .fold(Real::MAX, Real::min)
                 };
                 d(a).total_cmp(&d(b))
             });
-            let Some((line, faces)) = nearest else {
+            let Some(nearest) = nearest else {
                 return Err(GeodesicError::SourceMissesSurface(
                     "the plane does not cut the surface".into(),
                 ));
             };
-            out.curves
-                .push(subdivided_curve(&line.points, faces, line.closed, step));
+            let tolerance = JOIN_TOLERANCE * surface.mean_edge;
+            for i in joined_pieces(&lines, nearest, tolerance) {
+                let (line, faces) = &lines[i];
+                // A piece of no length (a sliver's) only joins its neighbours.
+                if i == nearest || line.length() > tolerance {
+                    out.curves
+                        .push(subdivided_curve(&line.points, faces, line.closed, step));
+                }
+            }
         }
     }
     Ok(out)
@@ -475,6 +523,39 @@ pub(crate) mod tests {
                     "length {length}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn a_plane_section_takes_the_pieces_joined_to_the_nearest_and_no_other() {
+        // Two tubes side by side, the second cut open along a seam: the plane z = 5 cuts
+        // each in one piece (a circle; an open arc). Only the nearer tube's is the source,
+        // whichever the point is near; the pieces of one cut joined end to end are one
+        // source (tests/geodesic.rs breaks a circle at edges of three faces).
+        let (a, b) = (tube(false), tube(true));
+        let shift = Vector3::new(30.0, 0.0, 0.0);
+        let mut positions = a.positions().to_vec();
+        positions.extend(b.positions().iter().map(|p| p + shift));
+        let offset = a.vertex_count() as u32;
+        let mut triangles = a.triangles().to_vec();
+        triangles.extend(b.triangles().iter().map(|t| t.map(|v| v + offset)));
+        let mesh = TriMesh::new(positions, triangles).unwrap();
+        let adjacency = FaceAdjacency::new(&mesh);
+        let surface = Surface::new(&mesh, &adjacency, None).unwrap();
+        for (x, closed) in [(0.0, true), (30.0, false)] {
+            let plane = GeodesicSource::Plane {
+                point: Point3::new(x, 0.0, 5.0),
+                normal: Vector3::z(),
+            };
+            let step = surface.mean_edge / 4.0;
+            let resolved = resolve(&surface, &OnceCell::new(), &plane, step, 1.0).unwrap();
+            assert_eq!(resolved.curves.len(), 1, "near x = {x}");
+            let curve = &resolved.curves[0];
+            assert_eq!(curve.closed, closed, "near x = {x}");
+            assert!(
+                curve.points.iter().all(|p| (p.x - x).abs() < 12.0),
+                "near x = {x}"
+            );
         }
     }
 

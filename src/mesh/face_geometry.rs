@@ -64,6 +64,12 @@ pub(crate) fn measure(corners: [Point3; 3]) -> (Vector3, Real, Point3) {
     (normal, 0.5 * twice_area, centroid)
 }
 
+/// Whether the face with corners `[a, b, c]` is degenerate, as [`FaceGeometry`] counts it
+/// (a height below [`DEGENERATE_HEIGHT_RATIO`] of its longest edge).
+pub(crate) fn is_degenerate(corners: [Point3; 3]) -> bool {
+    measure(corners).0 == Vector3::zeros()
+}
+
 /// Mean of three corners, `(a + (b + c)) / 3`: the same for `[a, c, b]`, so that turning a
 /// face (which swaps corners 1 and 2) keeps its centroid bit for bit.
 #[inline]

@@ -16,6 +16,7 @@ mod weld;
 const PROGRESS_EVERY: usize = 1 << 16;
 
 pub use adjacency::{FaceAdjacency, MAX_FACES, NO_FACE};
+pub(crate) use face_geometry::is_degenerate;
 pub use face_geometry::FaceGeometry;
 pub use face_groups::{bounding_sphere, DrawChunk, DrawWriter, FaceGroups, EMPTY_BOX};
 pub use import::{import_stl, prepare_mesh, ImportedMesh, MeshReport};
