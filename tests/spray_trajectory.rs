@@ -13,7 +13,7 @@ use skinpath::math::{Point3, Vector3};
 use skinpath::mesh::ImportedMesh;
 use skinpath::spray::{
     build_trajectory, deposit, order_zigzag, patch_frame, plan_spray, sample_faces, scan_passes,
-    PointGrid, ScanPass, SprayModel, SprayParams, TrajectoryCounts, ARC_STEP_RAD,
+    PointGrid, ScanPass, SprayModel, SprayParams, TrajectoryCounts, ARC_STEP_RAD, JOIN_GAP_RATIO,
     TURN_ON_RADIUS_RATIO,
 };
 use skinpath::toolpath::{Pose, PoseKind, ToolPath};
@@ -98,7 +98,14 @@ fn trajectory_turning(
     let frame = patch_frame(&m.mesh, &m.geometry, &faces, Some(Vector3::x()), 0.0).unwrap();
     assert!(frame.across.y.abs() > 0.999, "scan planes y = const");
     let offsets = frame.plane_offsets(spacing).unwrap();
-    let passes = order_zigzag(scan_passes(&m.mesh, &m.adjacency, &frame, &offsets));
+    let join_gap = JOIN_GAP_RATIO * p.standoff;
+    let passes = order_zigzag(scan_passes(
+        &m.mesh,
+        &m.adjacency,
+        &frame,
+        &offsets,
+        join_gap,
+    ));
     let radius = p.standoff * (p.cone_angle / 2.0).tan();
     build_trajectory(
         &passes,
@@ -170,6 +177,52 @@ fn passes(path: &ToolPath) -> Vec<Vec<Pose>> {
     (0..path.pass_count() as u32)
         .map(|k| path.poses.iter().filter(|q| q.pass == k).copied().collect())
         .collect()
+}
+
+#[test]
+fn a_pass_broken_at_edges_of_three_faces_goes_on_as_one() {
+    // A 1 m plate of 100 mm squares, scan planes y = 50, 150, … 950. The vertical edge
+    // x = 500 of the row y = 400…500 is split by a vertex at y = 430 and a sliver of no area
+    // is glued along it: both halves have three faces, so the walk along the plane y = 450
+    // stops at x = 500 (the sliver itself is left out of the patch). Ended there, the two
+    // pieces were each extended over the other, gun on (a thick stripe in the middle).
+    let corner = |x: f64, y: f64| [x as f32, y as f32, 0.0f32];
+    let m = corner(500.0, 430.0);
+    let mut tris: Vec<Tri> = Vec::new();
+    for j in 0..10 {
+        for i in 0..10 {
+            let (x, y) = (100.0 * i as f64, 100.0 * j as f64);
+            let [a, b, c, d] = [
+                corner(x, y),
+                corner(x + 100.0, y),
+                corner(x + 100.0, y + 100.0),
+                corner(x, y + 100.0),
+            ];
+            match (i, j) {
+                (4, 4) => tris.extend([[a, b, m], [a, m, c], [a, c, d]]),
+                (5, 4) => tris.extend([[a, b, m], [m, b, c], [m, c, d]]),
+                _ => tris.extend([[a, b, c], [a, c, d]]),
+            }
+        }
+    }
+    tris.push([corner(500.0, 400.0), m, corner(500.0, 500.0)]);
+    let mesh = import(&binary_stl(&tris));
+    assert_eq!(
+        mesh.report.non_manifold_edges, 2,
+        "both halves of the split edge"
+    );
+    let (path, _) = trajectory(&mesh, &params(), 100.0);
+    let passes = passes(&path);
+    assert_eq!(passes.len(), 10, "one pass a plane");
+    // Extensions (gun on) run beyond the plate's edges only.
+    for pose in path.poses.iter().filter(|q| q.kind == PoseKind::Extension) {
+        let x = pose.position.x;
+        assert!(
+            !(1.0..999.0).contains(&x),
+            "an extension at x = {x}, y = {}",
+            pose.position.y
+        );
+    }
 }
 
 #[test]

@@ -35,7 +35,8 @@ pub use plan::{
 };
 pub use quality::{evaluate_quality, interior_mask, thickness_stats, Quality, ThicknessStats};
 pub use raster::{
-    order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass, ARC_BINS, MAX_STRETCH,
+    order_zigzag, patch_frame, scan_passes, PatchFrame, ScanPass, ARC_BINS, JOIN_GAP_RATIO,
+    MAX_STRETCH,
 };
 pub use samples::{fit_resolution, sample_faces, EvaluationSamples};
 pub use sampling::{SampleCache, COARSE_RESOLUTION_RATIO};

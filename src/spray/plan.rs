@@ -22,7 +22,7 @@
 use super::deposition::{deposit_except, SprayModel};
 use super::params::{SprayError, SprayParams};
 use super::quality::{evaluate_quality, interior_mask, Quality, ThicknessStats};
-use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame};
+use super::raster::{order_zigzag, patch_frame, scan_passes, PatchFrame, JOIN_GAP_RATIO};
 use super::samples::{fit_resolution, EvaluationSamples};
 use super::sampling::{sample_sets, SampleCache, Sampling};
 use super::search::{ripple, search_spacing, Fidelity, Iteration, Limits, FALLBACK_MARGIN};
@@ -168,7 +168,8 @@ impl Setup<'_> {
         spacing: Real,
     ) -> Result<(ToolPath, TrajectoryCounts, usize), SprayError> {
         let offsets = frame.plane_offsets(spacing)?;
-        let passes = scan_passes(self.mesh, self.adjacency, frame, &offsets);
+        let join_gap = JOIN_GAP_RATIO * self.params.standoff;
+        let passes = scan_passes(self.mesh, self.adjacency, frame, &offsets, join_gap);
         if passes.is_empty() {
             return Err(SprayError::PlanesMissPatch);
         }

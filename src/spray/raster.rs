@@ -25,7 +25,12 @@
 //!         extremes;
 //!         a vertex exactly on a plane counts as above it, so neighbours agree on every
 //!         crossing; zero-length segments (a plane through a vertex) are dropped; a plane
-//!         meeting holes or a concave outline gives several passes.
+//!         meeting holes or a concave outline gives several passes, but one that starts
+//!         within a gap too small to spray ([`JOIN_GAP_RATIO`]`·h`) of the end of the one
+//!         before goes on with it (the chain stops at an edge of three faces, at a face of
+//!         no area, and where a plane grazes a corner of the outline: on the Orion model's
+//!         largest patch, at a spacing of 0.09, 40 of 280 passes ended 5·10⁻⁵ to 6·10⁻⁴
+//!         from the next one's start, and their extensions doubled the coating there).
 
 use super::params::{SprayError, MAX_PLANES};
 use crate::math::{any_perpendicular, Point3, Real, Vector3};
@@ -42,6 +47,10 @@ const SEGMENT_MIN_RATIO: Real = 1e-12;
 /// Relative slack on `width / spacing` before rounding up the plane count, so rounding noise
 /// in the frame does not add a plane (the outermost margin may then exceed `b/2` by this much).
 const PLANE_COUNT_TOLERANCE: Real = 1e-6;
+/// Pieces of one scan plane whose ends are closer than this fraction of the standoff are one
+/// pass (the spray cannot tell such a gap from none; ended there, each piece would be
+/// extended over the other).
+pub const JOIN_GAP_RATIO: Real = 0.01;
 /// Bins of the arc-length table across the passes.
 pub const ARC_BINS: usize = 1024;
 /// Largest stretch (surface distance over distance across the planes) a face counts with:
@@ -363,12 +372,14 @@ struct Segment {
 }
 
 /// Cuts the patch with the planes `across·x = s_k` and chains each plane's segments into
-/// passes oriented along `frame.travel`, ordered along it within a plane.
+/// passes oriented along `frame.travel`, ordered along it within a plane; a pass that ends
+/// within `join_gap` of the next one's start goes on into it.
 pub fn scan_passes(
     mesh: &TriMesh,
     adjacency: &FaceAdjacency,
     frame: &PatchFrame,
     offsets: &[Real],
+    join_gap: Real,
 ) -> Vec<ScanPass> {
     let n = offsets.len();
     if n == 0 {
@@ -533,7 +544,20 @@ pub fn scan_passes(
             let key = |p: &ScanPass| frame.travel.dot(&p.points[0].coords);
             key(a).total_cmp(&key(b))
         });
-        passes.extend(pieces);
+        // A piece that starts where the one before it ends (within `join_gap`) goes on with
+        // it: the chain stops at an edge of three faces, at a face of no area (left out of
+        // the patch) and where the plane grazes a corner of the outline; ended there, the
+        // pass would get its extensions (gun on) over the next piece's, a thick spot.
+        for piece in pieces {
+            if let Some(last) = passes.last_mut().filter(|p: &&mut ScanPass| p.plane == k) {
+                if (piece.points[0] - last.points[last.points.len() - 1]).norm() <= join_gap {
+                    last.points.extend_from_slice(&piece.points[1..]);
+                    last.faces.extend_from_slice(&piece.faces);
+                    continue;
+                }
+            }
+            passes.push(piece);
+        }
     }
     passes
 }
