@@ -289,3 +289,35 @@ test('on a small model with corners the accurate method gives the exact distance
   assert.match(await page.textContent('#overlay-paths'), /\(accurate method \(the exact distance/);
   assert.deepEqual(app.consoleErrors, []);
 });
+
+test('passes nearer the source than the mesh resolves are said to be missing, and why', async () => {
+  const { page } = app;
+  // Rings of vertices every 4.8 mm: the plane z = 60 through the centre passes 2.4 mm from
+  // the nearest, and the distance is known at the vertices only.
+  await page.setInputFiles('#file-input', { name: 'cylinder25.stl', mimeType: 'model/stl', buffer: cylinderStl(96, 25) });
+  await waitForModel(page, 'cylinder25.stl');
+  await page.selectOption('#unit-select', 'mm');
+  await waitForReady(page);
+  await page.click('#tab-paths');
+  await page.check('#paths-form input[name="source"][value="plane"]');
+  await page.check('#paths-form input[name="scope"][value="mesh"]');
+  await page.selectOption('#paths-axis', 'z');
+  await page.check('#paths-form input[name="spacingMode"][value="spacing"]');
+  await page.fill('#paths-spacing', '1');
+  await page.check('#paths-form input[name="method"][value="fast"]');
+  const compute = async (most) => {
+    await page.fill('#paths-maxLevel', String(most));
+    const runs = await page.evaluate(() => Number(document.body.dataset.pathsRuns ?? 0));
+    await page.click('#paths-run');
+    await page.waitForFunction((n) => Number(document.body.dataset.pathsRuns) === n + 1, runs, { timeout: 60_000 });
+    await waitForReady(page);
+    return page.textContent('#paths-summary');
+  };
+  const none = await compute(2);
+  assert.match(none, /: 0 passes .* No pass: the 2 levels asked for \(Most passes\) end 2 mm from the source, nearer than the mesh resolves: .*the nearest vertices are 2\.4 mm from the source\. Widen the spacing/);
+  const some = await compute(10);
+  assert.match(some, /Levels 1 to 2 \(up to 2 mm\) are not cut, nearer the source than the mesh resolves/);
+  const levels = await rows(page).evaluateAll((trs) => trs.map((tr) => Number(tr.dataset.level)));
+  assert.equal(Math.min(...levels), 3);
+  assert.deepEqual(app.consoleErrors, []);
+});

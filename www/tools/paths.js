@@ -436,6 +436,27 @@ class PathsTool {
     });
   }
 
+  /**
+   * Why the first passes are missing, when they are: the distance is known at the vertices
+   * and varies linearly in each face between them, so no pass lies nearer the source than
+   * its nearest vertices (a plane between two rings of a coarse model's vertices, a spacing
+   * finer than the mesh).
+   */
+  #missingLevels(run, request) {
+    const first = run.table.length ? run.table[0].level : null;
+    if (first === 1 || (first === null && !(run.maxDistance >= request.spacing))) return '';
+    const mm = this.#shell.mmPerUnit;
+    let nearest = Infinity;
+    for (const d of run.vertexDistance) if (d < nearest) nearest = d;
+    const reach = (first === null ? request.pathOptions.maxLevel : first - 1) * request.spacing;
+    const why = 'the distance is known at the vertices of the mesh and varies linearly between them' +
+      (reach < nearest ? `, and the nearest vertices are ${num(nearest * mm, 4)} mm from the source` : '');
+    return first === null
+      ? ` No pass: the ${integer.format(request.pathOptions.maxLevel)} levels asked for (Most passes) end ${num(reach * mm, 4)} mm ` +
+        `from the source, nearer than the mesh resolves: ${why}. Widen the spacing, raise Most passes, or use a finer mesh.`
+      : ` Levels 1 to ${first - 1} (up to ${num(reach * mm, 4)} mm) are not cut, nearer the source than the mesh resolves: ${why}.`;
+  }
+
   #clear(message) {
     this.#result = null;
     for (const layer of ['map', 'closed', 'open', 'source', 'diffmark']) this.#shell.viewer?.removeLayer(`paths.${layer}`);
@@ -532,7 +553,8 @@ class PathsTool {
     $('paths-summary').textContent = `${what} on ${request.patchId === null ? 'the whole mesh' : `patch ${request.patchId}`}, ` +
       `${methodLabel(run)}: ${integer.format(run.table.length)} passes (${closed} closed, ${run.table.length - closed} open) ` +
       `${num(request.spacing * mm, 4)} mm apart, ${num(total * mm / 1000, 4)} m of path; farthest point ${num(run.maxDistance * mm, 4)} mm.` +
-      (run.table.length && run.table[run.table.length - 1].level >= request.pathOptions.maxLevel ? ` Stopped at level ${request.pathOptions.maxLevel} (Most passes).` : '');
+      (run.table.length && run.table[run.table.length - 1].level >= request.pathOptions.maxLevel ? ` Stopped at level ${request.pathOptions.maxLevel} (Most passes).` : '') +
+      this.#missingLevels(run, request);
     const rows = run.table.slice(0, MAX_ROWS).map((p) => {
       const tr = document.createElement('tr');
       tr.dataset.level = String(p.level);
