@@ -220,17 +220,18 @@ pub(crate) fn joined_at_ends(mut lines: Vec<IsoLine>, tolerance: Real) -> Vec<Is
     // The unit direction of a line leaving end `id` (zero for a line of no length).
     let leaving = |lines: &[IsoLine], id: u32| -> Vector3 {
         let points = &lines[id as usize / 2].points;
-        let mut from_end: Box<dyn Iterator<Item = &Point3>> = if id % 2 == 0 {
-            Box::new(points.iter())
-        } else {
-            Box::new(points.iter().rev())
+        let n = points.len();
+        let at = |k: usize| {
+            if id % 2 == 0 {
+                points[k]
+            } else {
+                points[n - 1 - k]
+            }
         };
-        let Some(&end) = from_end.next() else {
-            return Vector3::zeros();
-        };
-        from_end
-            .find(|p| (*p - end).norm() > tolerance)
-            .map_or(Vector3::zeros(), |p| (p - end).normalize())
+        (1..n)
+            .map(at)
+            .find(|p| (p - at(0)).norm() > tolerance)
+            .map_or(Vector3::zeros(), |p| (p - at(0)).normalize())
     };
     let closes = |l: &IsoLine| {
         let n = l.points.len();

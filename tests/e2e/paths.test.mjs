@@ -61,6 +61,33 @@ async function purplePixels(page) {
 
 const rows = (page) => page.locator('#paths-table tbody tr');
 
+/**
+ * Opens `buffer` as `name` (in mm) and sets the Paths tool to a section plane normal to z
+ * through the model's centre, on the whole mesh, passes `spacing` mm apart by `method`.
+ */
+async function planeAcross(page, name, buffer, spacing, method) {
+  await page.setInputFiles('#file-input', { name, mimeType: 'model/stl', buffer });
+  await waitForModel(page, name);
+  await page.selectOption('#unit-select', 'mm');
+  await waitForReady(page);
+  await page.click('#tab-paths');
+  await page.check('#paths-form input[name="source"][value="plane"]');
+  await page.check('#paths-form input[name="scope"][value="mesh"]');
+  await page.selectOption('#paths-axis', 'z');
+  await page.check('#paths-form input[name="spacingMode"][value="spacing"]');
+  await page.fill('#paths-spacing', String(spacing));
+  await page.check(`#paths-form input[name="method"][value="${method}"]`);
+}
+
+/** Presses Compute paths and waits for the result: the summary. */
+async function computePaths(page) {
+  const runs = await page.evaluate(() => Number(document.body.dataset.pathsRuns ?? 0));
+  await page.click('#paths-run');
+  await page.waitForFunction((n) => Number(document.body.dataset.pathsRuns) === n + 1, runs, { timeout: 60_000 });
+  await waitForReady(page);
+  return page.textContent('#paths-summary');
+}
+
 /** Bytes of a figure such as "45.2 MiB" (www/app/format.js bytesText). */
 function bytesOf(text) {
   const m = /([\d.]+)\s*(KiB|MiB|GiB)/.exec(text.replace(/,/g, ''));
@@ -264,22 +291,8 @@ test('on a small model with corners the accurate method gives the exact distance
       for (let j = 0; j < n; j++) tris.push(...p(i, j), ...p(i + 1, j), ...p(i + 1, j + 1), ...p(i, j), ...p(i + 1, j + 1), ...p(i, j + 1));
     }
   }
-  await page.setInputFiles('#file-input', { name: 'cube.stl', mimeType: 'model/stl', buffer: binaryStl(tris, 'cube for the paths test') });
-  await waitForModel(page, 'cube.stl');
-  await page.selectOption('#unit-select', 'mm');
-  await waitForReady(page);
-  await page.click('#tab-paths');
-  await page.check('#paths-form input[name="source"][value="plane"]');
-  await page.check('#paths-form input[name="scope"][value="mesh"]');
-  await page.selectOption('#paths-axis', 'z');
-  await page.check('#paths-form input[name="spacingMode"][value="spacing"]');
-  await page.fill('#paths-spacing', '7');
-  await page.check('#paths-form input[name="method"][value="accurate"]');
-  const runs = await page.evaluate(() => Number(document.body.dataset.pathsRuns ?? 0));
-  await page.click('#paths-run');
-  await page.waitForFunction((n) => Number(document.body.dataset.pathsRuns) === n + 1, runs, { timeout: 60_000 });
-  await waitForReady(page);
-  const summary = await page.textContent('#paths-summary');
+  await planeAcross(page, 'cube.stl', binaryStl(tris, 'cube for the paths test'), 7, 'accurate');
+  const summary = await computePaths(page);
   assert.match(summary, /accurate method \(the exact distance: small surface with corners or holes\)/);
   const far = Number(summary.match(/farthest point ([\d.]+) mm/)[1]);
   assert.ok(Math.abs(far - 40) < 1e-3, `farthest ${far}: ${summary}`);
@@ -294,24 +307,10 @@ test('passes nearer the source than the mesh resolves are said to be missing, an
   const { page } = app;
   // Rings of vertices every 4.8 mm: the plane z = 60 through the centre passes 2.4 mm from
   // the nearest, and the distance is known at the vertices only.
-  await page.setInputFiles('#file-input', { name: 'cylinder25.stl', mimeType: 'model/stl', buffer: cylinderStl(96, 25) });
-  await waitForModel(page, 'cylinder25.stl');
-  await page.selectOption('#unit-select', 'mm');
-  await waitForReady(page);
-  await page.click('#tab-paths');
-  await page.check('#paths-form input[name="source"][value="plane"]');
-  await page.check('#paths-form input[name="scope"][value="mesh"]');
-  await page.selectOption('#paths-axis', 'z');
-  await page.check('#paths-form input[name="spacingMode"][value="spacing"]');
-  await page.fill('#paths-spacing', '1');
-  await page.check('#paths-form input[name="method"][value="fast"]');
+  await planeAcross(page, 'cylinder25.stl', cylinderStl(96, 25), 1, 'fast');
   const compute = async (most) => {
     await page.fill('#paths-maxLevel', String(most));
-    const runs = await page.evaluate(() => Number(document.body.dataset.pathsRuns ?? 0));
-    await page.click('#paths-run');
-    await page.waitForFunction((n) => Number(document.body.dataset.pathsRuns) === n + 1, runs, { timeout: 60_000 });
-    await waitForReady(page);
-    return page.textContent('#paths-summary');
+    return computePaths(page);
   };
   const none = await compute(2);
   assert.match(none, /: 0 passes .* No pass: the 2 levels asked for \(Most passes\) end 2 mm from the source, nearer than the mesh resolves: .*the nearest vertices are 2\.4 mm from the source\. Widen the spacing/);

@@ -10,6 +10,8 @@ import { download, fileStem } from '../app/download.js';
 import { num, pointText } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
 import { cellHtml, cellOptions, mountCell, renderCell } from '../app/cell.js';
+import { hexRgb } from '../app/colours.js';
+import { pointMark } from '../viewer/viewer.js';
 
 const P = 'drill.'; // settings key prefix
 const DEFAULTS = Object.freeze({
@@ -566,22 +568,15 @@ class DrillTool {
     const h = Math.hypot(...[0, 1, 2].map((k) => report.bboxMax[k] - report.bboxMin[k])) * MARKER;
     const positions = [];
     const colors = [];
-    const star = (p, rgb) => {
-      for (let k = 0; k < 3; k++) {
-        const a = [...p];
-        const b = [...p];
-        a[k] -= h;
-        b[k] += h;
-        positions.push(...a, ...b);
-        colors.push(...rgb, ...rgb);
-      }
+    const mark = (p, rgb) => {
+      pointMark(positions, p, h);
+      for (let k = 0; k < 6; k++) colors.push(...rgb);
     };
-    const rgb = (hex) => [1, 3, 5].map((k) => parseInt(hex.slice(k, k + 2), 16));
     NAMES.forEach((_, i) => {
       const p = this.#vec(`drill-ref-${i}-nom`);
-      if (p) star(p, rgb(COLORS.reference));
+      if (p) mark(p, hexRgb(COLORS.reference));
     });
-    for (let i = 0; i + 2 < holes.length; i += 3) star([holes[i], holes[i + 1], holes[i + 2]], rgb(COLORS.nominal));
+    for (let i = 0; i + 2 < holes.length; i += 3) mark([holes[i], holes[i + 1], holes[i + 2]], hexRgb(COLORS.nominal));
     if (positions.length === 0) {
       viewer.removeLayer('drill.form');
       return;

@@ -12,7 +12,8 @@ import { download, fileStem } from '../app/download.js';
 import { fieldText, integer, num, pointText } from '../app/format.js';
 import { persistSettings } from '../app/settings.js';
 import { cellHtml, cellOptions, mountCell, renderCell } from '../app/cell.js';
-import { viridis, viridisInto } from '../app/colours.js';
+import { hexRgb, viridis, viridisInto } from '../app/colours.js';
+import { pointMark } from '../viewer/viewer.js';
 
 const P = 'paths.'; // settings key prefix
 
@@ -51,10 +52,6 @@ const UNREACHED = [160, 164, 168];
 const MAX_ROWS = 300;
 
 const $ = (id) => document.getElementById(id);
-const hexRgb = (hex) => {
-  const n = parseInt(hex.slice(1), 16);
-  return [(n >> 16) & 255, (n >> 8) & 255, n & 255];
-};
 
 function fieldRow(f) {
   const title = f.title ? ` title="${f.title}"` : '';
@@ -289,15 +286,7 @@ class PathsTool {
     const v = this.#read().values;
     const size = Math.max((v.spacingMm || 10) / this.#shell.mmPerUnit / 3, 1e-9);
     const pos = [];
-    const cross = (p) => {
-      for (let k = 0; k < 3; k++) {
-        const a = [...p];
-        const b = [...p];
-        a[k] -= size;
-        b[k] += size;
-        pos.push(...a, ...b);
-      }
-    };
+    const cross = (p) => pointMark(pos, p, size);
     if (v.source === 'plane' && this.#point) cross(this.#point);
     if (v.source === 'points') {
       this.#points.forEach(cross);
@@ -619,13 +608,7 @@ class PathsTool {
       const r = Math.max(worst.max, this.#result.request.spacing / 2);
       const c = [P[3 * worst.at], P[3 * worst.at + 1], P[3 * worst.at + 2]];
       const pos = [];
-      for (let k = 0; k < 3; k++) {
-        const a = [...c];
-        const b = [...c];
-        a[k] -= r;
-        b[k] += r;
-        pos.push(...a, ...b);
-      }
+      pointMark(pos, c, r);
       this.#shell.viewer.setLayer('paths.diffmark', { kind: 'lines', positions: Float32Array.from(pos), color: DIFF_COLOR });
       this.#shell.viewer.setLayerVisible('paths.diffmark', this.#shell.activeTool === this);
     }

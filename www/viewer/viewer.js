@@ -56,6 +56,20 @@ function surfaceMaterial(emissiveIntensity, color = 0xffffff) {
   });
 }
 
+/**
+ * Marks point `p` for a 'lines' layer: three segments along the axes, `size` either side of
+ * it, pushed onto `positions` (x y z, two points per segment); seen from any side as a cross.
+ */
+export function pointMark(positions, p, size) {
+  for (let k = 0; k < 3; k++) {
+    const a = [...p];
+    const b = [...p];
+    a[k] -= size;
+    b[k] += size;
+    positions.push(...a, ...b);
+  }
+}
+
 export class Viewer extends EventTarget {
   #container;
   #renderer;
