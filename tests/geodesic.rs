@@ -196,6 +196,77 @@ fn a_plane_section_and_passes_broken_at_edges_of_three_faces_are_whole() {
 }
 
 #[test]
+fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
+    // A 4 × 4 plate of unit squares in z = 0, measured from the plane x = 0.3. Glued on along
+    // the plate's edge (2, 1)–(2, 2) stands a fin to the corner (2, 1.5, 1); along the edge
+    // (3, 0)–(3, 1) lies a sliver (no area) whose third corner is the edge's midpoint. Each
+    // such edge has three faces. The shortest path to the fin's corner runs along x and
+    // crosses the edge at y = 1.5: 1.7 + 1 (the fin unfolded into the plate's plane), not
+    // 1.7 + √1.25 through an end of the edge; to the sliver's corner it runs along x to
+    // (3, 0.5): 2.7, not 2.7 + 0.5 along the sliver from an end. The exact method stopped at
+    // such edges (and so did the accurate method, which tries it first); the fast method
+    // took the edge path to a corner on the line of the edge.
+    let (mut positions, mut triangles) =
+        grid(4, 4, false, |u, v| Point3::new(4.0 * u, 4.0 * v, 0.0));
+    let id = |i: u32, j: u32| j * 5 + i;
+    positions.push(Point3::new(2.0, 1.5, 1.0));
+    triangles.push([id(2, 1), id(2, 2), 25]);
+    positions.push(Point3::new(3.0, 0.5, 0.0));
+    triangles.push([id(3, 0), 26, id(3, 1)]);
+    // A thin sliver (not degenerate: 1e-5 high) on the diagonal (1, 3)–(0, 4), which the
+    // plane cuts at (0.3, 3.7): its piece of the section has no length. Its corner lies near
+    // (0.6, 3.4), 0.3 from the plane across the diagonal. Within the sliver it is 0.3·√2 from
+    // the cut, what the fast method (which starts the corners of the faces the section
+    // crosses at their distance within the face) gives; before, the sliver was not part of
+    // the source, and the fast method interpolated 0.54 along the edge, from its ends' 0.7
+    // and 0.3, across the source.
+    let normal = Point3::new(1.0, 1.0, 0.0).coords / Real::sqrt(2.0);
+    positions.push(Point3::new(0.6, 3.4, 0.0) + normal * 1e-5);
+    triangles.push([id(1, 3), id(0, 4), 27]);
+    let s = shape(positions, triangles);
+    assert_eq!(s.adjacency.non_manifold_edges(), 3);
+    let plane = GeodesicSource::Plane {
+        point: Point3::new(0.3, 0.0, 0.0),
+        normal: skinpath::math::Vector3::x(),
+    };
+    let corner = (s.mesh.positions()[27].x - 0.3).hypot(1e-5 / Real::sqrt(2.0));
+    for method in [Method::Exact, Method::Accurate, Method::Fast] {
+        let params = DistanceParams {
+            method,
+            ..DistanceParams::default()
+        };
+        let d = distance(&s, &plane, &params).vertex_distance;
+        for (v, (p, dv)) in s.mesh.positions().iter().zip(&d).take(25).enumerate() {
+            let want = (p.x - 0.3).abs();
+            assert!(
+                (dv - want).abs() < 1e-9,
+                "{method:?}: vertex {v} {dv} ≠ {want}"
+            );
+        }
+        assert!(
+            (d[25] - 2.7).abs() < 1e-9,
+            "{method:?}: fin corner {}",
+            d[25]
+        );
+        assert!(
+            (d[26] - 2.7).abs() < 1e-9,
+            "{method:?}: sliver corner {}",
+            d[26]
+        );
+        let within = if method == Method::Fast {
+            0.3 * Real::sqrt(2.0) + 1e-9
+        } else {
+            corner + 1e-9
+        };
+        assert!(
+            (corner - 1e-9..within).contains(&d[27]),
+            "{method:?}: cut sliver's corner {}, {corner} across the edge",
+            d[27]
+        );
+    }
+}
+
+#[test]
 fn cylinder_generator_source_gives_lines_on_both_sides() {
     let s = cylinder(160, 60);
     // Between two vertex columns, so the source crosses faces.

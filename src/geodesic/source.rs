@@ -7,8 +7,9 @@
 //! active face across; a plane section is the zero level set of the signed distance to the
 //! plane (the iso-line code), keeping the piece that passes nearest to the plane's point with
 //! every piece joined to it end to end (the walk along a level set stops at an edge of three
-//! faces, and real files have them: one cut of a fuselage came in two halves); its segments
-//! lie in known faces, so it is subdivided without snapping.
+//! faces, and real files have them: one cut of a fuselage came in two halves), the pieces of
+//! no length (a sliver's) after the others; its segments lie in known faces, so it is
+//! subdivided without snapping.
 //! Cost: O(F) plus a closest-point query per sample.
 
 use super::iso_lines::{contour_with_faces, Ends, IsoLine, JOIN_TOLERANCE};
@@ -407,14 +408,22 @@ pub(crate) fn resolve(
                 ));
             };
             let tolerance = JOIN_TOLERANCE * surface.mean_edge;
+            // Pieces of no length (a sliver's, between two pieces glued on along its edge)
+            // come last: they add the faces they lie in to the source, so that the
+            // vertex-based methods start the sliver's lone corner at its distance, but a
+            // vertex the other pieces start at the same distance keeps their front.
+            let (mut long, mut short) = (Vec::new(), Vec::new());
             for i in joined_pieces(&lines, nearest, tolerance) {
                 let (line, faces) = &lines[i];
-                // A piece of no length (a sliver's) only joins its neighbours.
+                let curve = subdivided_curve(&line.points, faces, line.closed, step);
                 if i == nearest || line.length() > tolerance {
-                    out.curves
-                        .push(subdivided_curve(&line.points, faces, line.closed, step));
+                    long.push(curve);
+                } else {
+                    short.push(curve);
                 }
             }
+            out.curves.extend(long);
+            out.curves.extend(short);
         }
     }
     Ok(out)

@@ -20,7 +20,9 @@
 //!         unfoldings are exact on developable surfaces, so distances from straight source
 //!         segments and from points (generators and rings of a cylinder, plate edges, a vertex
 //!         on folded plates) are exact up to rounding; curved surfaces are handled face by face.
-//!         When no unfolded ray crosses the edge, the update is the edge path `d_a + |a v|`;
+//!         A vertex on the line of the edge (the corner of a face of no area, a sliver) is
+//!         reached where it lies on the edge. When no unfolded ray crosses the edge, the
+//!         update is the edge path `d_a + |a v|`;
 //!         a new point front starts at `a` only if `a` is a saddle or boundary vertex (the
 //!         only vertices shortest paths bend at; Mitchell, Mount & Papadimitriou 1987).
 //!         Vertices of the faces the source crosses start at their straight-line distance to
@@ -88,10 +90,9 @@ fn unfold(pa: &Point3, da: Real, sigma: Real, pb: &Point3, db: Real, pv: &Point3
     let ex = e / c;
     let w = pv - pa;
     let vx = w.dot(&ex);
+    // v on the line ab (the corner of a face of no area, a sliver) is reached where it lies
+    // on the edge, by the ray through it.
     let vy = (w - ex * vx).norm();
-    if vy <= c * CROSSING_TOLERANCE {
-        return None;
-    }
     let on_edge = |x: Real| x >= -c * CROSSING_TOLERANCE && x <= c * (1.0 + CROSSING_TOLERANCE);
     if sigma == LINE_FRONT {
         // Plane wave: unit u with u·(b − a) = d_b − d_a, pointing towards v's side.

@@ -41,6 +41,10 @@
 //!   - Degenerate faces (height below `DEGENERATE_HEIGHT_RATIO` of the longest edge) pass no
 //!     windows; their vertices act as pseudo-sources and reach each other along edges. A
 //!     source sample on a vertex makes it a pseudo-source.
+//!   - An edge of three or more faces (a fin or a sliver glued on along it) passes a window
+//!     on into every other active face on it (no paper: CH/ICH assume a manifold). Before,
+//!     a path could enter such a face only through the edge's ends: on a generated aircraft
+//!     a sliver's corner 0.115 m too far.
 //!   - Rounding: a vertex within `RAY_TOLERANCE` of a window's border ray is reached by it
 //!     (neighbouring windows meet exactly on such rays; without slack a vertex there can fall
 //!     between them).
@@ -51,6 +55,8 @@ use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
 use super::source::ResolvedSource;
 use super::surface::Surface;
 use crate::math::{angle_between, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
+use crate::mesh::NO_FACE;
+use rustc_hash::FxHashMap;
 
 mod front;
 mod pieces;
@@ -114,6 +120,12 @@ struct Solver<'a> {
     back: Vec<Option<(u32, Vector3)>>,
     /// Per vertex reached by a window ray: the face it crossed and where it crossed the edge.
     via: Vec<Option<(u32, Real)>>,
+    /// The active faces on each edge of three or more faces (see [`edge_books`]), as
+    /// half-edges `face·4 + slot`:
+    /// the edges are `books[pages[i]..pages[i + 1]]`, and `book_of` finds a half-edge's.
+    books: Vec<u32>,
+    pages: Vec<u32>,
+    book_of: FxHashMap<u32, u32>,
     heap: Queue,
     /// The events the heap entries point to, and the free places among them.
     events: Vec<Event>,
@@ -157,11 +169,15 @@ impl<'a> Solver<'a> {
         for v in 0..nv {
             pseudo[v] |= angle[v] > 2.0 * std::f64::consts::PI * (1.0 + FLAT_VERTEX_TOLERANCE);
         }
+        let (books, pages, book_of) = edge_books(surface);
         Solver {
             surface,
             dist: vec![Real::INFINITY; nv],
             back: vec![None; nv],
             via: vec![None; nv],
+            books,
+            pages,
+            book_of,
             pseudo,
             degenerate,
             heap: Queue::new((QUEUE_BAND * surface.mean_edge).max(Real::MIN_POSITIVE)),
@@ -260,18 +276,30 @@ impl<'a> Solver<'a> {
         })
     }
 
-    /// The face across slot `k` of `f` and the slot of the same edge there.
-    fn twin(&self, f: usize, k: usize) -> Option<(usize, usize)> {
-        let h = self.surface.across(f, k)?;
-        let t = self.surface.mesh.triangles()[f];
-        let (a, b) = (t[k], t[(k + 1) % 3]);
-        let th = self.surface.mesh.triangles()[h];
-        (0..3)
-            .find(|&j| {
+    /// The faces across slot `k` of `f`, each with the slot of the same edge there: the
+    /// face beyond a manifold edge, or every other active face on an edge of three or more
+    /// faces (a path may go on into any of them: a fin glued on along that edge, a sliver).
+    fn twins(&self, f: usize, k: usize) -> Twins {
+        if let Some(h) = self.surface.across(f, k) {
+            let t = self.surface.mesh.triangles()[f];
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let th = self.surface.mesh.triangles()[h];
+            return Twins::One((0..3).find_map(|j| {
                 let (c, d) = (th[j], th[(j + 1) % 3]);
-                (c == a && d == b) || (c == b && d == a)
-            })
-            .map(|j| (h, j))
+                ((c == a && d == b) || (c == b && d == a)).then_some((h, j))
+            }));
+        }
+        let Some(&book) = self.book_of.get(&((f as u32) << 2 | k as u32)) else {
+            return Twins::One(None);
+        };
+        let (i, j) = (self.pages[book as usize], self.pages[book as usize + 1]);
+        Twins::Many(
+            self.books[i as usize..j as usize]
+                .iter()
+                .filter(|&&e| e >> 2 != f as u32)
+                .map(|&e| ((e >> 2) as usize, (e & 3) as usize))
+                .collect(),
+        )
     }
 
     /// True when an end of the window's edge beats the window over its whole interval.
@@ -426,9 +454,13 @@ impl<'a> Solver<'a> {
     /// The child of `w` on the edge in slot `j` of its face, covering the segment `q` (two
     /// points of that edge in the frame `fr`), moved to the frame of the face beyond.
     fn child(&mut self, fr: &Frame, w: &Window, j: usize, q: [[Real; 2]; 2]) {
-        let Some((h, jh)) = self.twin(w.face as usize, j) else {
-            return;
-        };
+        for (h, jh) in self.twins(w.face as usize, j) {
+            self.child_in(fr, w, (h, jh), q);
+        }
+    }
+
+    /// [`Solver::child`] into the face `h`, whose slot `jh` is the edge.
+    fn child_in(&mut self, fr: &Frame, w: &Window, (h, jh): (usize, usize), q: [[Real; 2]; 2]) {
         let Some(nf) = self.frame(h, jh) else {
             return;
         };
@@ -471,6 +503,58 @@ impl<'a> Solver<'a> {
         };
         self.offer(child, &nf);
     }
+}
+
+/// The faces across an edge ([`Solver::twins`]): one (or none) across a manifold edge,
+/// any number across an edge of three or more faces.
+enum Twins {
+    One(Option<(usize, usize)>),
+    Many(Vec<(usize, usize)>),
+}
+
+impl Iterator for Twins {
+    type Item = (usize, usize);
+
+    fn next(&mut self) -> Option<(usize, usize)> {
+        match self {
+            Twins::One(one) => one.take(),
+            Twins::Many(many) => many.pop(),
+        }
+    }
+}
+
+/// The edges of three or more faces with two or more of them active ("books", the faces
+/// their pages): the half-edges `face·4 + slot` of each, the start of each book among them
+/// (and the end of the last), and the book of each of those half-edges. Found among the
+/// half-edges the adjacency links to nobody (boundary, non-manifold), sorted by their
+/// vertices: O(E log E) in those half-edges, none on a closed manifold surface.
+fn edge_books(surface: &Surface) -> (Vec<u32>, Vec<u32>, FxHashMap<u32, u32>) {
+    let mesh = surface.mesh;
+    let mut open: Vec<([u32; 2], u32)> = Vec::new();
+    for &f in &surface.faces {
+        let t = mesh.triangles()[f as usize];
+        for (k, &g) in surface.adjacency.neighbours(f as usize).iter().enumerate() {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if g == NO_FACE && a != b {
+                open.push(([a.min(b), a.max(b)], f << 2 | k as u32));
+            }
+        }
+    }
+    open.sort_unstable();
+    let (mut books, mut pages, mut book_of) = (Vec::new(), vec![0u32], FxHashMap::default());
+    for run in open.chunk_by(|x, y| x.0 == y.0) {
+        // One face alone: a boundary edge (its other faces, if any, are not active). Two:
+        // the active ones of an edge of three or more faces, a manifold edge here.
+        if run.len() < 2 {
+            continue;
+        }
+        for &(_, half_edge) in run {
+            book_of.insert(half_edge, (pages.len() - 1) as u32);
+            books.push(half_edge);
+        }
+        pages.push(books.len() as u32);
+    }
+    (books, pages, book_of)
 }
 
 /// Exact geodesic distance per vertex from `source` on the active faces; `max_windows`

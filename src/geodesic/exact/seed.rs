@@ -11,21 +11,20 @@ impl Solver<'_> {
     /// Seeds a window over `[b0, b1]` of the edge in slot `k` of `g`, crossing into the face
     /// beyond; `make` builds the front in that half-edge's frame.
     pub(super) fn seed_edge(&mut self, g: usize, k: usize, make: &dyn Fn(&Frame) -> Vec<Seed>) {
-        let Some((h, j)) = self.twin(g, k) else {
-            return;
-        };
-        let Some(fr) = self.frame(h, j) else {
-            return;
-        };
-        for (b0, b1, front) in make(&fr) {
-            let w = Window {
-                face: h as u32,
-                slot: j as u8,
-                b0: b0.max(0.0),
-                b1: b1.min(fr.l),
-                front,
+        for (h, j) in self.twins(g, k) {
+            let Some(fr) = self.frame(h, j) else {
+                continue;
             };
-            self.offer(w, &fr);
+            for (b0, b1, front) in make(&fr) {
+                let w = Window {
+                    face: h as u32,
+                    slot: j as u8,
+                    b0: b0.max(0.0),
+                    b1: b1.min(fr.l),
+                    front,
+                };
+                self.offer(w, &fr);
+            }
         }
     }
 
