@@ -205,7 +205,8 @@ fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
     // 1.7 + √1.25 through an end of the edge; to the sliver's corner it runs along x to
     // (3, 0.5): 2.7, not 2.7 + 0.5 along the sliver from an end. The exact method stopped at
     // such edges (and so did the accurate method, which tries it first); the fast method
-    // took the edge path to a corner on the line of the edge.
+    // took the edge path to a corner on the line of the edge. Slivers cut by the plane are
+    // part of the source's faces: the fast method and the virtual sources missed them.
     let (mut positions, mut triangles) =
         grid(4, 4, false, |u, v| Point3::new(4.0 * u, 4.0 * v, 0.0));
     let id = |i: u32, j: u32| j * 5 + i;
@@ -223,19 +224,38 @@ fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
     let normal = Point3::new(1.0, 1.0, 0.0).coords / Real::sqrt(2.0);
     positions.push(Point3::new(0.6, 3.4, 0.0) + normal * 1e-5);
     triangles.push([id(1, 3), id(0, 4), 27]);
+    // A sliver of no area on the diagonal (1, 1)–(0, 2), cut by the plane at (0.3, 1.7): the
+    // walk along the section leaves it out (a walk through faces of no area alone gives no
+    // line), but its corner (0.6, 1.4) is a point of the plate's face the section crosses,
+    // 0.3 from the plane within it.
+    positions.push(Point3::new(0.6, 1.4, 0.0));
+    triangles.push([id(1, 1), id(0, 2), 28]);
+    // The same along the edge (0, 2)–(1, 2), which runs along x: its corner (0.6, 2) is 0.3
+    // from the plane, across the cut (0.9 and 1.1 through the ends).
+    positions.push(Point3::new(0.6, 2.0, 0.0));
+    triangles.push([id(0, 2), id(1, 2), 29]);
     let s = shape(positions, triangles);
-    assert_eq!(s.adjacency.non_manifold_edges(), 3);
+    assert_eq!(s.adjacency.non_manifold_edges(), 5);
     let plane = GeodesicSource::Plane {
         point: Point3::new(0.3, 0.0, 0.0),
         normal: skinpath::math::Vector3::x(),
     };
     let corner = (s.mesh.positions()[27].x - 0.3).hypot(1e-5 / Real::sqrt(2.0));
-    for method in [Method::Exact, Method::Accurate, Method::Fast] {
+    // The accurate method as it runs on large meshes too: virtual sources, no exact try.
+    let virtual_sources = (Method::Accurate, Some(0));
+    for (method, exact_first_windows) in [
+        (Method::Exact, None),
+        (Method::Accurate, None),
+        virtual_sources,
+        (Method::Fast, None),
+    ] {
         let params = DistanceParams {
             method,
+            exact_first_windows,
             ..DistanceParams::default()
         };
         let d = distance(&s, &plane, &params).vertex_distance;
+        let method = (method, exact_first_windows);
         for (v, (p, dv)) in s.mesh.positions().iter().zip(&d).take(25).enumerate() {
             let want = (p.x - 0.3).abs();
             assert!(
@@ -243,17 +263,24 @@ fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
                 "{method:?}: vertex {v} {dv} ≠ {want}"
             );
         }
+        // The virtual sources are moved from face to face across manifold edges only: the
+        // fin's and the uncut sliver's corners are offered the paths through the edges' ends.
+        let (fin, sliver) = if method == virtual_sources {
+            (1.7 + Real::hypot(0.5, 1.0), 2.7 + 0.5)
+        } else {
+            (2.7, 2.7)
+        };
         assert!(
-            (d[25] - 2.7).abs() < 1e-9,
+            (d[25] - fin).abs() < 1e-9,
             "{method:?}: fin corner {}",
             d[25]
         );
         assert!(
-            (d[26] - 2.7).abs() < 1e-9,
+            (d[26] - sliver).abs() < 1e-9,
             "{method:?}: sliver corner {}",
             d[26]
         );
-        let within = if method == Method::Fast {
+        let within = if method.0 == Method::Fast || method == virtual_sources {
             0.3 * Real::sqrt(2.0) + 1e-9
         } else {
             corner + 1e-9
@@ -263,6 +290,13 @@ fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
             "{method:?}: cut sliver's corner {}, {corner} across the edge",
             d[27]
         );
+        for v in [28, 29] {
+            assert!(
+                (d[v] - 0.3).abs() < 1e-9,
+                "{method:?}: {v} at {} ≠ 0.3",
+                d[v]
+            );
+        }
     }
 }
 

@@ -12,8 +12,9 @@
 //! Cost: O(F) to build; a query visits O(1) cells on a surface of bounded face size.
 
 use super::params::GeodesicError;
-use crate::math::{Point3, Real, Vector3};
+use crate::math::{Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
 use crate::mesh::{FaceAdjacency, TriMesh, NO_FACE};
+use rustc_hash::FxHashMap;
 use std::sync::{Arc, OnceLock};
 
 /// Cells per active face at most in the closest-point grid.
@@ -50,6 +51,79 @@ pub struct Derived {
     /// Per vertex, the rings to a gap in the surface and whether it lies on a hole's rim
     /// (see `virtual_source/shadow.rs`), found by the first distance that needs them.
     gaps: OnceLock<(Vec<u8>, Vec<bool>)>,
+    /// The active faces on the edges of three or more faces, found by the first distance
+    /// that needs them.
+    books: OnceLock<EdgeBooks>,
+}
+
+/// The edges of three or more faces with two or more of them active ("books", the faces
+/// their pages), found among the half-edges the adjacency links to nobody (boundary,
+/// non-manifold), sorted by their vertices: O(E log E) in those half-edges, nothing on a
+/// mesh without edges of three or more faces. A path may go on across such an edge into any
+/// of its faces (a fin or a sliver glued on along it).
+#[derive(Debug)]
+pub(crate) struct EdgeBooks {
+    /// The half-edges `face·4 + slot` of each book, book after book.
+    half_edges: Vec<u32>,
+    /// The start of each book in `half_edges`, and the end of the last.
+    starts: Vec<u32>,
+    /// The book of each of those half-edges.
+    book_of: FxHashMap<u32, u32>,
+}
+
+impl EdgeBooks {
+    fn new(surface: &Surface) -> Self {
+        let mesh = surface.mesh;
+        let mut open: Vec<([u32; 2], u32)> = Vec::new();
+        // Without an edge of three or more faces, nothing to look for.
+        let faces: &[u32] = if surface.adjacency.non_manifold_edges() == 0 {
+            &[]
+        } else {
+            &surface.faces
+        };
+        for &f in faces {
+            let t = mesh.triangles()[f as usize];
+            for (k, &g) in surface.adjacency.neighbours(f as usize).iter().enumerate() {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if g == NO_FACE && a != b {
+                    open.push(([a.min(b), a.max(b)], f << 2 | k as u32));
+                }
+            }
+        }
+        open.sort_unstable();
+        let mut books = EdgeBooks {
+            half_edges: Vec::new(),
+            starts: vec![0],
+            book_of: FxHashMap::default(),
+        };
+        for run in open.chunk_by(|x, y| x.0 == y.0) {
+            // One face alone: a boundary edge (its other faces, if any, are not active).
+            // Two: the active ones of an edge of three or more faces, a manifold edge here.
+            if run.len() < 2 {
+                continue;
+            }
+            for &(_, half_edge) in run {
+                let book = (books.starts.len() - 1) as u32;
+                books.book_of.insert(half_edge, book);
+                books.half_edges.push(half_edge);
+            }
+            books.starts.push(books.half_edges.len() as u32);
+        }
+        books
+    }
+
+    /// The other active faces on the edge in slot `k` of face `f`, each with the slot of
+    /// the edge there (none unless the edge has three or more faces).
+    pub(crate) fn others(&self, f: usize, k: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let range = match self.book_of.get(&((f as u32) << 2 | k as u32)) {
+            Some(&b) => self.starts[b as usize] as usize..self.starts[b as usize + 1] as usize,
+            None => 0..0,
+        };
+        self.half_edges[range]
+            .iter()
+            .filter(move |&&e| e >> 2 != f as u32)
+            .map(|&e| ((e >> 2) as usize, (e & 3) as usize))
+    }
 }
 
 impl std::ops::Deref for Surface<'_> {
@@ -164,6 +238,26 @@ impl<'a> Surface<'a> {
     pub fn faces_of(&self, v: usize) -> &[u32] {
         let (a, b) = (self.vertex_face_start[v], self.vertex_face_start[v + 1]);
         &self.vertex_faces[a as usize..b as usize]
+    }
+
+    /// The active faces on the edges of three or more faces ([`EdgeBooks`]).
+    pub(crate) fn books(&self) -> &EdgeBooks {
+        self.derived.books.get_or_init(|| EdgeBooks::new(self))
+    }
+
+    /// The corners of faces glued on along the edges of face `f` (edges of three or more
+    /// faces) that lie on the edge: a sliver's lone corner, which is a point of `f` (the
+    /// methods that start the vertices of the faces a source crosses start these too).
+    pub(crate) fn glued_corners(&self, f: usize) -> impl Iterator<Item = usize> + '_ {
+        let (mesh, books) = (self.mesh, self.books());
+        let (pos, t) = (mesh.positions(), mesh.triangles()[f]);
+        (0..3).flat_map(move |k| {
+            let (a, b) = (pos[t[k] as usize], pos[t[(k + 1) % 3] as usize]);
+            books.others(f, k).filter_map(move |(g, j)| {
+                let c = mesh.triangles()[g][(j + 2) % 3] as usize;
+                on_segment(&pos[c], &a, &b).then_some(c)
+            })
+        })
     }
 
     /// The active face across slot `k` of face `f`, if any.
@@ -281,6 +375,7 @@ impl Derived {
             subset: subset.map(<[u32]>::to_vec),
             counts: (nf, nv),
             gaps: OnceLock::new(),
+            books: OnceLock::new(),
             active,
             mean_edge: edge_sum / (3 * faces.len()).max(1) as Real,
             faces,
@@ -303,6 +398,15 @@ impl Derived {
         self.counts == (mesh.triangle_count(), mesh.vertex_count())
             && self.subset.as_deref() == subset
     }
+}
+
+/// Whether `c` lies on the segment `a`–`b`: within [`DEGENERATE_HEIGHT_RATIO`] of its length
+/// from it, between its ends.
+fn on_segment(c: &Point3, a: &Point3, b: &Point3) -> bool {
+    let e = b - a;
+    let l2 = e.norm_squared();
+    let t = (c - a).dot(&e);
+    l2 > 0.0 && (0.0..=l2).contains(&t) && (c - a).cross(&e).norm() <= DEGENERATE_HEIGHT_RATIO * l2
 }
 
 /// Refuses an adjacency that is not the mesh's (another face count).

@@ -26,7 +26,8 @@
 //!         a new point front starts at `a` only if `a` is a saddle or boundary vertex (the
 //!         only vertices shortest paths bend at; Mitchell, Mount & Papadimitriou 1987).
 //!         Vertices of the faces the source crosses start at their straight-line distance to
-//!         the source polyline (exact inside a face). This replaces window propagation
+//!         the source polyline (exact inside a face), and so do the corners of faces glued
+//!         on along their edges that lie on the edge (a sliver's: points of the face). This replaces window propagation
 //!         (Mitchell–Mount–Papadimitriou 1987; Surazhsky et al. 2005), which `exact/` does
 //!         at about ten times the cost: this method is not exact on non-developable meshes.
 //!         Measured against exact answers (plates: < 1e-6 mm; cylinder R 50 with 2 mm edges
@@ -158,8 +159,10 @@ pub(crate) fn propagate(
         let n = curve.points.len();
         let segs = if curve.closed { n } else { n - 1 };
         for (i, &f) in curve.faces.iter().enumerate() {
-            for v in mesh.triangles()[f as usize] {
-                let p = pos[v as usize];
+            // Its corners, and the corners of slivers glued on along its edges.
+            let t = mesh.triangles()[f as usize].map(|v| v as usize);
+            for v in t.into_iter().chain(surface.glued_corners(f as usize)) {
+                let p = pos[v];
                 // Nearest point of the neighbouring source segments: a line front when the
                 // foot is inside a segment, a point front (the source corner) otherwise.
                 let (mut line, mut point) = (Real::INFINITY, Real::INFINITY);
@@ -188,10 +191,10 @@ pub(crate) fn propagate(
                 }
                 if line <= point {
                     let id = u64::MAX - ci as u64;
-                    seed(v as usize, line, LINE_FRONT, id, &mut dist, &mut heap);
+                    seed(v, line, LINE_FRONT, id, &mut dist, &mut heap);
                 } else if point.is_finite() {
                     let id = sample_base + corner as u64;
-                    seed(v as usize, point, 0.0, id, &mut dist, &mut heap);
+                    seed(v, point, 0.0, id, &mut dist, &mut heap);
                 }
             }
         }

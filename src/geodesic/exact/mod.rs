@@ -55,8 +55,6 @@ use super::params::{GeodesicError, Progress, PROGRESS_EVERY};
 use super::source::ResolvedSource;
 use super::surface::Surface;
 use crate::math::{angle_between, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
-use crate::mesh::NO_FACE;
-use rustc_hash::FxHashMap;
 
 mod front;
 mod pieces;
@@ -120,12 +118,6 @@ struct Solver<'a> {
     back: Vec<Option<(u32, Vector3)>>,
     /// Per vertex reached by a window ray: the face it crossed and where it crossed the edge.
     via: Vec<Option<(u32, Real)>>,
-    /// The active faces on each edge of three or more faces (see [`edge_books`]), as
-    /// half-edges `face·4 + slot`:
-    /// the edges are `books[pages[i]..pages[i + 1]]`, and `book_of` finds a half-edge's.
-    books: Vec<u32>,
-    pages: Vec<u32>,
-    book_of: FxHashMap<u32, u32>,
     heap: Queue,
     /// The events the heap entries point to, and the free places among them.
     events: Vec<Event>,
@@ -169,15 +161,11 @@ impl<'a> Solver<'a> {
         for v in 0..nv {
             pseudo[v] |= angle[v] > 2.0 * std::f64::consts::PI * (1.0 + FLAT_VERTEX_TOLERANCE);
         }
-        let (books, pages, book_of) = edge_books(surface);
         Solver {
             surface,
             dist: vec![Real::INFINITY; nv],
             back: vec![None; nv],
             via: vec![None; nv],
-            books,
-            pages,
-            book_of,
             pseudo,
             degenerate,
             heap: Queue::new((QUEUE_BAND * surface.mean_edge).max(Real::MIN_POSITIVE)),
@@ -289,17 +277,7 @@ impl<'a> Solver<'a> {
                 ((c == a && d == b) || (c == b && d == a)).then_some((h, j))
             }));
         }
-        let Some(&book) = self.book_of.get(&((f as u32) << 2 | k as u32)) else {
-            return Twins::One(None);
-        };
-        let (i, j) = (self.pages[book as usize], self.pages[book as usize + 1]);
-        Twins::Many(
-            self.books[i as usize..j as usize]
-                .iter()
-                .filter(|&&e| e >> 2 != f as u32)
-                .map(|&e| ((e >> 2) as usize, (e & 3) as usize))
-                .collect(),
-        )
+        Twins::Many(self.surface.books().others(f, k).collect())
     }
 
     /// True when an end of the window's edge beats the window over its whole interval.
@@ -521,40 +499,6 @@ impl Iterator for Twins {
             Twins::Many(many) => many.pop(),
         }
     }
-}
-
-/// The edges of three or more faces with two or more of them active ("books", the faces
-/// their pages): the half-edges `face·4 + slot` of each, the start of each book among them
-/// (and the end of the last), and the book of each of those half-edges. Found among the
-/// half-edges the adjacency links to nobody (boundary, non-manifold), sorted by their
-/// vertices: O(E log E) in those half-edges, none on a closed manifold surface.
-fn edge_books(surface: &Surface) -> (Vec<u32>, Vec<u32>, FxHashMap<u32, u32>) {
-    let mesh = surface.mesh;
-    let mut open: Vec<([u32; 2], u32)> = Vec::new();
-    for &f in &surface.faces {
-        let t = mesh.triangles()[f as usize];
-        for (k, &g) in surface.adjacency.neighbours(f as usize).iter().enumerate() {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            if g == NO_FACE && a != b {
-                open.push(([a.min(b), a.max(b)], f << 2 | k as u32));
-            }
-        }
-    }
-    open.sort_unstable();
-    let (mut books, mut pages, mut book_of) = (Vec::new(), vec![0u32], FxHashMap::default());
-    for run in open.chunk_by(|x, y| x.0 == y.0) {
-        // One face alone: a boundary edge (its other faces, if any, are not active). Two:
-        // the active ones of an edge of three or more faces, a manifold edge here.
-        if run.len() < 2 {
-            continue;
-        }
-        for &(_, half_edge) in run {
-            book_of.insert(half_edge, (pages.len() - 1) as u32);
-            books.push(half_edge);
-        }
-        pages.push(books.len() as u32);
-    }
-    (books, pages, book_of)
 }
 
 /// Exact geodesic distance per vertex from `source` on the active faces; `max_windows`

@@ -192,8 +192,9 @@ fn on_boundary(surface: &Surface, v: usize) -> bool {
     })
 }
 
-/// Seeds `s` from `curve`: each vertex of a face the curve crosses gets the nearest of the
-/// pieces within [`SEED_WINDOW`] samples.
+/// Seeds `s` from `curve`: each vertex of a face the curve crosses (and each corner of a
+/// sliver glued on along its edges, a point of the face) gets the nearest of the pieces
+/// within [`SEED_WINDOW`] samples.
 pub(super) fn seed_curve(s: &mut Solver, curve: &Curve) {
     let surface = s.surface;
     let mesh = surface.mesh;
@@ -245,8 +246,9 @@ pub(super) fn seed_curve(s: &mut Solver, curve: &Curve) {
     let on_vertex = ON_VERTEX * surface.mean_edge;
     for (i, &f) in curve.faces.iter().enumerate() {
         let window = i as isize - SEED_WINDOW as isize..=(i + SEED_WINDOW) as isize;
-        for v in mesh.triangles()[f as usize] {
-            let v = v as usize;
+        // Its corners, and the corners of slivers glued on along its edges.
+        let t = mesh.triangles()[f as usize].map(|v| v as usize);
+        for v in t.into_iter().chain(surface.glued_corners(f as usize)) {
             let x = pos[v];
             for (j, piece) in window.clone().filter_map(piece) {
                 let (d, _) = segment_distance(&x, &piece.p, &piece.q);
