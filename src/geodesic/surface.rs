@@ -403,10 +403,8 @@ impl Derived {
 /// Whether `c` lies on the segment `a`–`b`: within [`DEGENERATE_HEIGHT_RATIO`] of its length
 /// from it, between its ends.
 fn on_segment(c: &Point3, a: &Point3, b: &Point3) -> bool {
-    let e = b - a;
-    let l2 = e.norm_squared();
-    let t = (c - a).dot(&e);
-    l2 > 0.0 && (0.0..=l2).contains(&t) && (c - a).cross(&e).norm() <= DEGENERATE_HEIGHT_RATIO * l2
+    let (d, inside) = segment_distance(c, a, b);
+    inside && d <= DEGENERATE_HEIGHT_RATIO * (b - a).norm()
 }
 
 /// Refuses an adjacency that is not the mesh's (another face count).
