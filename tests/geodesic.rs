@@ -205,8 +205,10 @@ fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
     // 1.7 + √1.25 through an end of the edge; to the sliver's corner it runs along x to
     // (3, 0.5): 2.7, not 2.7 + 0.5 along the sliver from an end. The exact method stopped at
     // such edges (and so did the accurate method, which tries it first); the fast method
-    // took the edge path to a corner on the line of the edge. Slivers cut by the plane are
-    // part of the source's faces: the fast method and the virtual sources missed them.
+    // took the edge path to a corner on the line of the edge; the virtual sources offered
+    // the fin's and the sliver's corners the paths through the edge's ends (2.818, 3.2).
+    // Slivers cut by the plane are part of the source's faces: the fast method and the
+    // virtual sources missed them.
     let (mut positions, mut triangles) =
         grid(4, 4, false, |u, v| Point3::new(4.0 * u, 4.0 * v, 0.0));
     let id = |i: u32, j: u32| j * 5 + i;
@@ -234,8 +236,14 @@ fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
     // from the plane, across the cut (0.9 and 1.1 through the ends).
     positions.push(Point3::new(0.6, 2.0, 0.0));
     triangles.push([id(0, 2), id(1, 2), 29]);
+    // A second fin, of two faces, along the edge (2, 2)–(2, 3), wound the other way
+    // round: its top corners (2, 2.4, 1) and (2, 2.9, 1) are 2.7 away across the edge too.
+    positions.push(Point3::new(2.0, 2.4, 1.0));
+    positions.push(Point3::new(2.0, 2.9, 1.0));
+    triangles.push([id(2, 3), id(2, 2), 30]);
+    triangles.push([id(2, 3), 30, 31]);
     let s = shape(positions, triangles);
-    assert_eq!(s.adjacency.non_manifold_edges(), 5);
+    assert_eq!(s.adjacency.non_manifold_edges(), 6);
     let plane = GeodesicSource::Plane {
         point: Point3::new(0.3, 0.0, 0.0),
         normal: skinpath::math::Vector3::x(),
@@ -263,18 +271,14 @@ fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
                 "{method:?}: vertex {v} {dv} ≠ {want}"
             );
         }
-        // The virtual sources are moved from face to face across manifold edges only: the
-        // fin's and the uncut sliver's corners are offered the paths through the edges' ends.
-        let (fin, sliver) = if method == virtual_sources {
-            (1.7 + Real::hypot(0.5, 1.0), 2.7 + 0.5)
-        } else {
-            (2.7, 2.7)
-        };
-        assert!(
-            (d[25] - fin).abs() < 1e-9,
-            "{method:?}: fin corner {}",
-            d[25]
-        );
+        let (fin, sliver) = (2.7, 2.7);
+        for v in [25, 30, 31] {
+            assert!(
+                (d[v] - fin).abs() < 1e-9,
+                "{method:?}: fin corner {v} at {}",
+                d[v]
+            );
+        }
         assert!(
             (d[26] - sliver).abs() < 1e-9,
             "{method:?}: sliver corner {}",

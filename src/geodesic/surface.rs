@@ -112,6 +112,21 @@ impl EdgeBooks {
         books
     }
 
+    /// Per vertex of `mesh`, whether it ends an edge of three or more faces with two or
+    /// more of them active; empty when none does.
+    pub(crate) fn vertices(&self, mesh: &TriMesh) -> Vec<bool> {
+        if self.half_edges.is_empty() {
+            return Vec::new();
+        }
+        let mut on = vec![false; mesh.vertex_count()];
+        for &e in &self.half_edges {
+            let (t, k) = (mesh.triangles()[(e >> 2) as usize], (e & 3) as usize);
+            on[t[k] as usize] = true;
+            on[t[(k + 1) % 3] as usize] = true;
+        }
+        on
+    }
+
     /// The other active faces on the edge in slot `k` of face `f`, each with the slot of
     /// the edge there (none unless the edge has three or more faces).
     pub(crate) fn others(&self, f: usize, k: usize) -> impl Iterator<Item = (usize, usize)> + '_ {

@@ -142,9 +142,11 @@
 //! `geometry.rs` the sources, the rotation between faces and ray crossings; `seeding.rs`
 //! the sources laid on the surface; `settle.rs` a settled vertex offering its neighbours;
 //! `offers.rs` an offer and its checks; `run_on.rs`, `follow.rs` the pieces of source
-//! curves; `fan_walk.rs`, `wedge.rs` point sources at sharp vertices; `shadow.rs`,
+//! curves; `fan_walk.rs`, `wedge.rs` point sources at sharp vertices; `books.rs` sources
+//! carried across edges of three or more faces (a fin glued on along an edge); `shadow.rs`,
 //! `round_a_hole.rs` holes; `queue.rs` the priority queue.
 
+mod books;
 mod fan_walk;
 mod follow;
 mod geometry;
@@ -248,6 +250,11 @@ pub(super) struct Solver<'a> {
     /// Per vertex, whether it lies on the rim of a hole; empty where [`Self::gap_rings`] is
     /// or no boundary loop turns as a hole's rim does.
     hole_rim: &'a [bool],
+    /// Per vertex, whether it ends an edge of three or more faces (see `books.rs`); empty on
+    /// a mesh with none.
+    book_vertex: Vec<bool>,
+    /// Scratch of [`Self::offer_across_books`]: the faces of a sheet round a vertex.
+    sheet: Vec<u32>,
     /// Scratch of [`Self::up_the_rim`]: the paths leaving the rim further back, their
     /// distance and the rim vertex each bends at.
     rim_chain: Vec<(Real, Virtual, u32)>,
@@ -282,6 +289,12 @@ impl<'a> Solver<'a> {
             rim: Vec::new(),
             long_walks: std::cell::Cell::new(shadow::LONG_WALK_FACES * surface.faces.len()),
             hole_rim: &[],
+            book_vertex: if surface.adjacency.non_manifold_edges() == 0 {
+                Vec::new()
+            } else {
+                surface.books().vertices(mesh)
+            },
+            sheet: Vec::new(),
             rim_chain: Vec::new(),
             rim_walks: std::cell::Cell::new(
                 (shadow::LONG_WALK_FACES * surface.faces.len()).max(shadow::LONG_WALK),

@@ -32,6 +32,9 @@ impl Solver<'_> {
         // Where the faces around u bend sharply, a point source is unfolded around u instead
         // of turned about it (see `fan_walk.rs`).
         if su.p == su.q && self.settled_walking(u) {
+            if self.book_vertex.get(u) == Some(&true) {
+                self.offer_across_books(u);
+            }
             return;
         }
         for &t in surface.faces_of(u) {
@@ -112,6 +115,9 @@ impl Solver<'_> {
                     self.up_the_rim(u, t, x, y);
                 }
             }
+        }
+        if self.book_vertex.get(u) == Some(&true) {
+            self.offer_across_books(u);
         }
         if !open && !surface.faces_of(u).is_empty() {
             // Every neighbour was nearer: a local maximum, where fronts end.

@@ -172,7 +172,7 @@ impl ExitSlack {
 
 /// The slot of the edge `a – b` in triangle `tri` (slot `k` runs from corner `k` to `k + 1`).
 #[inline(always)]
-fn slot(tri: [u32; 3], a: usize, b: usize) -> usize {
+pub(super) fn slot(tri: [u32; 3], a: usize, b: usize) -> usize {
     let off = |v: u32| v as usize != a && v as usize != b;
     if off(tri[0]) {
         1
@@ -343,6 +343,42 @@ impl Solver<'_> {
         )
     }
 
+    /// The face a ray walked back from face `g` (its normal's sign `sign` in the walk's
+    /// winding), its foot `f` unfolded into `g`'s plane, came from across slot `k` of `g`,
+    /// an edge of three or more faces, with its normal's sign: of the other faces on the
+    /// edge, unfolded across it (wound as `g`), those where the foot lies on their side of
+    /// the edge, the flattest; `None` when there is none (the ray came from off the
+    /// surface).
+    #[inline(never)]
+    fn behind_a_book(&self, g: usize, k: usize, sign: Real, f: &Point3) -> Option<(usize, Real)> {
+        let surface = self.surface;
+        let (pos, tris) = (surface.mesh.positions(), surface.mesh.triangles());
+        let normals = &surface.face_normals;
+        let tg = tris[g];
+        let pa = pos[tg[k] as usize];
+        let e = pos[tg[(k + 1) % 3] as usize] - pa;
+        let mut best: Option<(Real, usize, Real)> = None;
+        for (h, j) in surface.books().others(g, k) {
+            let th = tris[h];
+            // Wound alike, g and h run along the edge in opposite directions.
+            let sign_h = if th[j] == tg[k] { -sign } else { sign };
+            let n_h = normals[h] * sign_h;
+            let r = Rotation::new(&(normals[g] * sign), &n_h);
+            if r.c <= FOLD_COSINE {
+                continue;
+            }
+            let side = |p: &Point3| e.cross(&(p - pa)).dot(&n_h);
+            let foot_side = side(&(pa + r.apply(f - pa)));
+            if foot_side * side(&pos[th[(j + 2) % 3] as usize]) <= 0.0 {
+                continue;
+            }
+            if best.is_none_or(|(c, _, _)| r.c > c) {
+                best = Some((r.c, h, sign_h));
+            }
+        }
+        best.map(|(_, h, sign_h)| (h, sign_h))
+    }
+
     /// [`Self::through_a_gap`] within `steps` faces, counting the faces crossed in `walked`;
     /// with `holes_only`, a ray that leaves farther back than [`SHADOW_STEPS`] faces through
     /// an edge not on the rim of a hole (past a notch of an outer border it runs beside) is
@@ -365,6 +401,10 @@ impl Solver<'_> {
         let normals = &surface.face_normals;
         let (mut g, mut a, mut b) = (t, a, b);
         let (mut c, mut f) = (*crossing, *foot);
+        // The sign of the current face's normal in the walk's winding (turned where the
+        // walk went on across an edge of three or more faces into a face wound the other
+        // way; within a sheet the faces are wound alike).
+        let mut sign: Real = 1.0;
         // A ray through a vertex (a source curve along a row of edges of a structured mesh)
         // would find no edge to cross beyond it: it is walked as if it passed beside the
         // vertex, through the edge it crossed (here for the first edge, below for the
@@ -384,7 +424,23 @@ impl Solver<'_> {
             if usize::from(self.face_gap_rings(g)) > left {
                 return false;
             }
-            let Some(h) = surface.across(g, slot(tris[g], a, b)) else {
+            let k = slot(tris[g], a, b);
+            let across = match surface.across(g, k) {
+                Some(h) => Some((h, sign)),
+                // An edge of three or more faces: the first the ray crossed is one it was
+                // offered across from a face glued on along it (see `books.rs`), let
+                // through; further back the walk goes on into the face it came from.
+                None if !self.book_vertex.is_empty()
+                    && surface.books().others(g, k).next().is_some() =>
+                {
+                    if left + 1 == steps {
+                        return false;
+                    }
+                    self.behind_a_book(g, k, sign, &f)
+                }
+                None => None,
+            };
+            let Some((h, sign_h)) = across else {
                 if holes_only && *walked > SHADOW_STEPS && !(self.hole_rim[a] && self.hole_rim[b]) {
                     return false;
                 }
@@ -414,10 +470,11 @@ impl Solver<'_> {
                 }
                 return false;
             };
-            let r = Rotation::new(&normals[g], &normals[h]);
+            let r = Rotation::new(&(normals[g] * sign), &(normals[h] * sign_h));
             if r.c <= FOLD_COSINE {
                 return false;
             }
+            sign = sign_h;
             let pa = pos[a];
             f = pa + r.apply(f - pa);
             let n = &normals[h];

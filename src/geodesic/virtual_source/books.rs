@@ -1,0 +1,153 @@
+//! Sources carried across an edge of three or more faces: into a fin or a sliver glued on
+//! along an edge of the sheet a settled vertex's source lies in.
+//!
+//! Source: none (Trettner, Bommes & Kobbelt 2021 assume a manifold mesh).
+//! Input:  a settled vertex at an end of such an edge ("book", see `surface.rs`).
+//! Output: offers to the corners of the faces glued on along the edge, as [`Solver::settle`]
+//!         makes them within one sheet.
+//! Why:    a source is moved from face to face round a vertex by the smallest rotation
+//!         between their planes, which unfolds it across a shared edge only when the two
+//!         faces are wound alike. A fin is a sheet of its own, wound either way, and its
+//!         faces are not across any edge from the sheet the source lies in (the adjacency
+//!         links nobody across an edge of three or more faces), so the walk round a sharp
+//!         vertex (see `fan_walk.rs`) stops there too, and the shadow walk (`shadow.rs`)
+//!         took such an edge for a border. A fin's corner was offered the path through an
+//!         end of the edge (a fin standing on a plate, from a plane 1.7 away: 2.818 where
+//!         the path straight across the edge is 1.7 + 1).
+//! How:    the source's sheet round `u` is the set of faces reached from the source's face
+//!         across manifold edges through `u`. A face `t` outside it with an edge `u – y`
+//!         that also bounds a face `g` of the sheet is offered the source moved into `g`
+//!         (as [`Solver::settle`] moves it) where it lies on `g`'s side of the edge, then
+//!         unfolded across the edge into `t`'s plane: by the rotation from `g`'s normal to
+//!         `t`'s, or to its opposite where `t` runs along the edge in the same direction
+//!         as `g` (wound the other way). The offer checks, as every offer, that the ray
+//!         crosses the edge. A sliver (lower than [`SLIVER_HEIGHT`] of its longest edge,
+//!         whose plane is not defined) has its corner offered as a point of `g`, and that
+//!         corner becomes a point source of its own. Where `u`'s source holds only in a
+//!         walked wedge, a face wound the other way is left out (the wedge's angles are
+//!         measured about the face's normal).
+//! Cost:   only at vertices on such an edge (none on a manifold mesh): the sheet round the
+//!         vertex, and per glued face a turning and an offer for each face of the sheet on
+//!         its edge (a handful).
+
+use super::shadow::slot;
+use super::{corners_after, foot, Rotation, Solver, Virtual, FOLD_COSINE};
+use crate::math::{Point3, Real};
+
+/// A glued-on face lower than this fraction of its longest edge is a sliver: its plane is
+/// not defined, and its corner off the edge is taken as a point of the sheet's face.
+const SLIVER_HEIGHT: Real = 1e-4;
+
+impl Solver<'_> {
+    /// Offers the source of settled `u`, at an end of an edge of three or more faces, to the
+    /// faces glued on along such edges to its own sheet round `u`, unfolded across the edge
+    /// (see the module's header).
+    #[inline(never)]
+    pub(super) fn offer_across_books(&mut self, u: usize) {
+        let surface = self.surface;
+        let (tris, normals) = (surface.mesh.triangles(), &surface.face_normals);
+        let pos = surface.mesh.positions();
+        let books = surface.books();
+        let su = self.src[u];
+        let (f0, pu) = (su.face as usize, pos[u]);
+        let fan = surface.faces_of(u);
+        if !fan.contains(&su.face) {
+            return;
+        }
+        // The source's sheet round u: the faces reached from its face across manifold edges
+        // through u (each face added once: at most the fan).
+        let mut sheet = std::mem::take(&mut self.sheet);
+        sheet.clear();
+        sheet.push(su.face);
+        let mut next = 0;
+        while next < sheet.len() {
+            let f = sheet[next] as usize;
+            next += 1;
+            let t = tris[f];
+            for k in 0..3 {
+                if t[k] as usize != u && t[(k + 1) % 3] as usize != u {
+                    continue;
+                }
+                if let Some(g) = surface.across(f, k) {
+                    if !sheet.contains(&(g as u32)) {
+                        sheet.push(g as u32);
+                    }
+                }
+            }
+        }
+        for &t in fan {
+            if sheet.contains(&t) {
+                continue;
+            }
+            let t = t as usize;
+            let (p, q) = corners_after(tris[t], u);
+            let sliver = {
+                let [a, b, c] = tris[t].map(|v| pos[v as usize]);
+                let (ab, bc, ca) = (b - a, c - b, a - c);
+                let longest = ab
+                    .norm_squared()
+                    .max(bc.norm_squared())
+                    .max(ca.norm_squared());
+                ab.cross(&ca).norm() <= SLIVER_HEIGHT * longest
+            };
+            for (x, y) in [(p, q), (q, p)] {
+                if self.settled[x] {
+                    continue;
+                }
+                // The edge u – y of t, glued on along an edge of the sheet.
+                let tt = tris[t];
+                let k = slot(tt, u, y);
+                // Through each face of the sheet on the edge whose side of it the source
+                // lies on, unfolded across the edge.
+                for (g, j) in books.others(t, k) {
+                    if !sheet.contains(&(g as u32)) {
+                        continue;
+                    }
+                    let sg = if g == f0 {
+                        su
+                    } else {
+                        let r = Rotation::new(&normals[f0], &normals[g]);
+                        if r.c <= FOLD_COSINE {
+                            continue;
+                        }
+                        self.turned(&su, u, g, &r)
+                    };
+                    let tg = tris[g];
+                    let (py, pc) = (pos[y], pos[tg[(j + 2) % 3] as usize]);
+                    let e = py - pu;
+                    let mid = pu + e * 0.5;
+                    let nearest = foot(&mid, &sg.p, &sg.q, &sg.run_on, &normals[g], self.reach);
+                    let side = |p: &Point3| e.cross(&(p - pu)).dot(&normals[g]);
+                    if side(&nearest) * side(&pc) <= 0.0 {
+                        continue;
+                    }
+                    if sliver {
+                        // Its corner is a point of g: offered in g's plane, and a point
+                        // source of its own (t's plane is not defined).
+                        if let Some(o) = self.offer(&sg, g, x, u, y, y) {
+                            let (d, _, _) = o.of(sg, u);
+                            self.improve_from(x, d, Virtual::point(pos[x], d, t as u32), u);
+                        }
+                        continue;
+                    }
+                    // Wound alike, g and t run along the edge in opposite directions; else
+                    // t's normal is turned for the unfolding.
+                    let sign = if tg[j] == tt[k] { -1.0 } else { 1.0 };
+                    if sign < 0.0 && !self.wedge.is_empty() && !self.wedge[u].is_open() {
+                        continue;
+                    }
+                    let r = Rotation::new(&normals[g], &(normals[t] * sign));
+                    if r.c <= FOLD_COSINE {
+                        continue;
+                    }
+                    let s = self.turned(&sg, u, t, &r);
+                    if let Some(o) = self.offer(&s, t, x, u, y, y) {
+                        let (d, s, giver) = o.of(s, u);
+                        self.improve_from(x, d, s, giver);
+                    }
+                }
+            }
+        }
+        self.sheet = sheet;
+    }
+}
