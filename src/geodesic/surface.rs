@@ -12,7 +12,7 @@
 //! Cost: O(F) to build; a query visits O(1) cells on a surface of bounded face size.
 
 use super::params::GeodesicError;
-use crate::math::{Point3, Real, Vector3, DEGENERATE_HEIGHT_RATIO};
+use crate::math::{Point3, Real, Vector3};
 use crate::mesh::{FaceAdjacency, TriMesh, NO_FACE};
 use rustc_hash::FxHashMap;
 use std::sync::{Arc, OnceLock};
@@ -415,11 +415,20 @@ impl Derived {
     }
 }
 
-/// Whether `c` lies on the segment `a`–`b`: within [`DEGENERATE_HEIGHT_RATIO`] of its length
-/// from it, between its ends.
+/// A face glued on along an edge of three or more faces whose corner off the edge lies
+/// within this fraction of the edge's length from it is a sliver: its plane is not defined
+/// (its normal is rounding), and its corner is taken as a point of the faces on the edge.
+/// The path through the corner and the path to its foot on the edge differ by at most this
+/// fraction of the edge (no paper; a thousand times the import's degeneracy ratio
+/// [`DEGENERATE_HEIGHT_RATIO`](crate::math::DEGENERATE_HEIGHT_RATIO), which coordinates rounded to `f32` already exceed on
+/// slivers of edges a few hundredths of their distance from the origin long).
+pub(crate) const SLIVER_HEIGHT: Real = 1e-4;
+
+/// Whether `c` lies on the segment `a`–`b`: within [`SLIVER_HEIGHT`] of its length from it,
+/// between its ends.
 fn on_segment(c: &Point3, a: &Point3, b: &Point3) -> bool {
     let (d, inside) = segment_distance(c, a, b);
-    inside && d <= DEGENERATE_HEIGHT_RATIO * (b - a).norm()
+    inside && d <= SLIVER_HEIGHT * (b - a).norm()
 }
 
 /// Refuses an adjacency that is not the mesh's (another face count).

@@ -32,11 +32,8 @@
 
 use super::shadow::slot;
 use super::{corners_after, foot, Rotation, Solver, Virtual, FOLD_COSINE};
-use crate::math::{Point3, Real};
-
-/// A glued-on face lower than this fraction of its longest edge is a sliver: its plane is
-/// not defined, and its corner off the edge is taken as a point of the sheet's face.
-const SLIVER_HEIGHT: Real = 1e-4;
+use crate::geodesic::surface::SLIVER_HEIGHT;
+use crate::math::Point3;
 
 impl Solver<'_> {
     /// Offers the source of settled `u`, at an end of an edge of three or more faces, to the
