@@ -275,6 +275,18 @@ impl<'a> Surface<'a> {
         })
     }
 
+    /// Whether face `f` is a sliver: its height lower than [`SLIVER_HEIGHT`] of its longest
+    /// edge, so that its normal is rounding and its plane not defined.
+    pub(crate) fn is_sliver(&self, f: usize) -> bool {
+        let [a, b, c] = self.mesh.corners(f);
+        let (ab, bc, ca) = (b - a, c - b, a - c);
+        let longest = ab
+            .norm_squared()
+            .max(bc.norm_squared())
+            .max(ca.norm_squared());
+        ab.cross(&ca).norm() <= SLIVER_HEIGHT * longest
+    }
+
     /// The active face across slot `k` of face `f`, if any.
     pub fn across(&self, f: usize, k: usize) -> Option<usize> {
         let g = self.adjacency.neighbours(f)[k];
@@ -422,7 +434,7 @@ impl Derived {
 /// fraction of the edge (no paper; a thousand times the import's degeneracy ratio
 /// [`DEGENERATE_HEIGHT_RATIO`](crate::math::DEGENERATE_HEIGHT_RATIO), which coordinates rounded to `f32` already exceed on
 /// slivers of edges a few hundredths of their distance from the origin long).
-pub(crate) const SLIVER_HEIGHT: Real = 1e-4;
+const SLIVER_HEIGHT: Real = 1e-4;
 
 /// Whether `c` lies on the segment `a`–`b`: within [`SLIVER_HEIGHT`] of its length from it,
 /// between its ends.

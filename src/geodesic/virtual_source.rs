@@ -255,6 +255,10 @@ pub(super) struct Solver<'a> {
     book_vertex: Vec<bool>,
     /// Scratch of [`Self::offer_across_books`]: the faces of a sheet round a vertex.
     sheet: Vec<u32>,
+    /// Whether the offers being made are across an edge of three or more faces, from the
+    /// sheet the source lies in (see `books.rs`): the shadow walk lets them through that
+    /// edge, which it otherwise takes for a border.
+    across_books: bool,
     /// Scratch of [`Self::up_the_rim`]: the paths leaving the rim further back, their
     /// distance and the rim vertex each bends at.
     rim_chain: Vec<(Real, Virtual, u32)>,
@@ -295,6 +299,7 @@ impl<'a> Solver<'a> {
                 surface.books().vertices(mesh)
             },
             sheet: Vec::new(),
+            across_books: false,
             rim_chain: Vec::new(),
             rim_walks: std::cell::Cell::new(
                 (shadow::LONG_WALK_FACES * surface.faces.len()).max(shadow::LONG_WALK),

@@ -21,9 +21,9 @@
 //!         unfolded across the edge into `t`'s plane: by the rotation from `g`'s normal to
 //!         `t`'s, or to its opposite where `t` runs along the edge in the same direction
 //!         as `g` (wound the other way). The offer checks, as every offer, that the ray
-//!         crosses the edge. A sliver (lower than [`SLIVER_HEIGHT`] of its longest edge,
-//!         whose plane is not defined) has its corner offered as a point of `g`, and that
-//!         corner becomes a point source of its own. Where `u`'s source holds only in a
+//!         crosses the edge. A sliver (whose plane is not defined, see
+//!         `Surface::is_sliver`) has its corner offered as a point of `g`, and that corner
+//!         becomes a point source of its own. Where `u`'s source holds only in a
 //!         walked wedge, a face wound the other way is left out (the wedge's angles are
 //!         measured about the face's normal).
 //! Cost:   only at vertices on such an edge (none on a manifold mesh): the sheet round the
@@ -32,7 +32,6 @@
 
 use super::shadow::slot;
 use super::{corners_after, foot, Rotation, Solver, Virtual, FOLD_COSINE};
-use crate::geodesic::surface::SLIVER_HEIGHT;
 use crate::math::Point3;
 
 impl Solver<'_> {
@@ -72,21 +71,14 @@ impl Solver<'_> {
                 }
             }
         }
+        self.across_books = true;
         for &t in fan {
             if sheet.contains(&t) {
                 continue;
             }
             let t = t as usize;
             let (p, q) = corners_after(tris[t], u);
-            let sliver = {
-                let [a, b, c] = tris[t].map(|v| pos[v as usize]);
-                let (ab, bc, ca) = (b - a, c - b, a - c);
-                let longest = ab
-                    .norm_squared()
-                    .max(bc.norm_squared())
-                    .max(ca.norm_squared());
-                ab.cross(&ca).norm() <= SLIVER_HEIGHT * longest
-            };
+            let sliver = surface.is_sliver(t);
             for (x, y) in [(p, q), (q, p)] {
                 if self.settled[x] {
                     continue;
@@ -145,6 +137,7 @@ impl Solver<'_> {
                 }
             }
         }
+        self.across_books = false;
         self.sheet = sheet;
     }
 }

@@ -278,7 +278,9 @@ pub(super) fn seed_curve(s: &mut Solver, curve: &Curve) {
             for &g in surface.faces_of(v) {
                 let g = g as usize;
                 let r = Rotation::new(&nf, &surface.face_normals[g]);
-                if g == f as usize || r.c <= FOLD_COSINE {
+                // A sliver's plane is not defined (its corners are seeded as points of the
+                // faces it is glued to, see `Surface::glued_corners`).
+                if g == f as usize || r.c <= FOLD_COSINE || surface.is_sliver(g) {
                     continue;
                 }
                 for (j, piece) in window.clone().filter_map(piece) {

@@ -346,9 +346,9 @@ impl Solver<'_> {
     /// The face a ray walked back from face `g` (its normal's sign `sign` in the walk's
     /// winding), its foot `f` unfolded into `g`'s plane, came from across slot `k` of `g`,
     /// an edge of three or more faces, with its normal's sign: of the other faces on the
-    /// edge, unfolded across it (wound as `g`), those where the foot lies on their side of
-    /// the edge, the flattest; `None` when there is none (the ray came from off the
-    /// surface).
+    /// edge but slivers, unfolded across it (wound as `g`), those where the foot lies on
+    /// their side of the edge, the flattest; `None` when there is none (the ray came from
+    /// off the surface).
     #[inline(never)]
     fn behind_a_book(&self, g: usize, k: usize, sign: Real, f: &Point3) -> Option<(usize, Real)> {
         let surface = self.surface;
@@ -359,6 +359,9 @@ impl Solver<'_> {
         let e = pos[tg[(k + 1) % 3] as usize] - pa;
         let mut best: Option<(Real, usize, Real)> = None;
         for (h, j) in surface.books().others(g, k) {
+            if surface.is_sliver(h) {
+                continue;
+            }
             let th = tris[h];
             // Wound alike, g and h run along the edge in opposite directions.
             let sign_h = if th[j] == tg[k] { -sign } else { sign };
@@ -427,16 +430,23 @@ impl Solver<'_> {
             let k = slot(tris[g], a, b);
             let across = match surface.across(g, k) {
                 Some(h) => Some((h, sign)),
-                // An edge of three or more faces: the first the ray crossed is one it was
-                // offered across from a face glued on along it (see `books.rs`), let
-                // through; further back the walk goes on into the face it came from.
+                // An edge of three or more faces. The first the ray crossed: one it was
+                // offered across from the source's sheet (see `books.rs`) is let through;
+                // any other offer across it is refused there, as at a border (the source
+                // turned into the plane of a face of another sheet, which may be wound the
+                // other way or be a sliver of no plane). Further back the walk goes on into
+                // the face the ray came from.
                 None if !self.book_vertex.is_empty()
                     && surface.books().others(g, k).next().is_some() =>
                 {
                     if left + 1 == steps {
-                        return false;
+                        if self.across_books {
+                            return false;
+                        }
+                        None
+                    } else {
+                        self.behind_a_book(g, k, sign, &f)
                     }
-                    self.behind_a_book(g, k, sign, &f)
                 }
                 None => None,
             };
