@@ -8,7 +8,7 @@ use skinpath::geodesic::{
     boundary_loops, geodesic_distance, geodesic_distance_cached, DistanceField, DistanceParams,
     GeodesicError, GeodesicSource, IsoLine, LinkOrder, Method, PathParams, SurfaceCache,
 };
-use skinpath::math::{Point3, Real};
+use skinpath::math::{Point3, Real, Vector3};
 use skinpath::toolpath::PoseKind;
 use std::f64::consts::PI;
 
@@ -296,6 +296,70 @@ fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
                 d[v]
             );
         }
+    }
+}
+
+#[test]
+fn slivers_glued_on_a_closed_sphere_leave_no_path_shorter_than_exact() {
+    // A sphere (radius 50, 4k faces) with a sliver glued on along every 37th face's first
+    // edge: its corner at the edge's midpoint, 3e-6 of the edge off it in one of three
+    // directions (as f32 rounding leaves it), wound either way. A sliver's normal is rounding,
+    // so a source turned into its plane lands anywhere: the virtual sources took such turned
+    // sources to the slivers' corners and on to their neighbours, 2.06 below the exact
+    // distance at most (the sphere's own vertices 1.25 below). Measured from an oblique plane
+    // through the centre; the sphere is closed, so no shadow walk refuses anything.
+    let base = sphere(64, 32);
+    let mut positions = base.mesh.positions().to_vec();
+    let mut triangles = base.mesh.triangles().to_vec();
+    let directions = [
+        Vector3::new(1.0, 0.3, -0.2),
+        Vector3::new(-0.4, 1.0, 0.5),
+        Vector3::new(0.2, -0.7, 1.0),
+    ];
+    let mut corners = Vec::new();
+    for (i, f) in (0..triangles.len()).step_by(37).enumerate() {
+        let t = triangles[f];
+        let (a, b) = (positions[t[0] as usize], positions[t[1] as usize]);
+        let off = directions[i % 3].normalize() * ((b - a).norm() * 3e-6);
+        positions.push(Point3::from((a.coords + b.coords) * 0.5) + off);
+        let c = positions.len() as u32 - 1;
+        triangles.push(if i % 2 == 0 {
+            [t[0], t[1], c]
+        } else {
+            [t[1], t[0], c]
+        });
+        corners.push(c as usize);
+    }
+    let s = shape(positions, triangles);
+    assert_eq!(s.adjacency.non_manifold_edges(), corners.len());
+    let plane = GeodesicSource::Plane {
+        point: Point3::origin(),
+        normal: Vector3::new(0.3, 0.2, 1.0).normalize(),
+    };
+    let run = |shape: &Shape, method, exact_first_windows| {
+        let params = DistanceParams {
+            method,
+            exact_first_windows,
+            ..DistanceParams::default()
+        };
+        distance(shape, &plane, &params).vertex_distance
+    };
+    let (exact, virtual_sources) = (
+        run(&s, Method::Exact, None),
+        run(&s, Method::Accurate, Some(0)),
+    );
+    // The virtual sources' own error on the sphere without slivers (0.96 above at most;
+    // the slivers leave the exact distance at the sphere's vertices as it is).
+    let plain = run(&base, Method::Accurate, Some(0));
+    let above = (0..plain.len())
+        .map(|v| plain[v] - exact[v])
+        .fold(0.0, Real::max);
+    for (v, (&e, &d)) in exact.iter().zip(&virtual_sources).enumerate() {
+        assert!(d > e - 0.1, "vertex {v}: {d} below the exact {e}");
+    }
+    for &c in &corners {
+        let (e, d) = (exact[c], virtual_sources[c]);
+        assert!(d < e + above + 0.01, "sliver corner {c}: {d}, exact {e}");
     }
 }
 

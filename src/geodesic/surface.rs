@@ -261,8 +261,9 @@ impl<'a> Surface<'a> {
     }
 
     /// The corners of faces glued on along the edges of face `f` (edges of three or more
-    /// faces) that lie on the edge: a sliver's lone corner, which is a point of `f` (the
-    /// methods that start the vertices of the faces a source crosses start these too).
+    /// faces) that lie on the edge (within [`SLIVER_HEIGHT`] of its length): a sliver's lone
+    /// corner, which is a point of `f` (the methods that start the vertices of the faces a
+    /// source crosses start these too).
     pub(crate) fn glued_corners(&self, f: usize) -> impl Iterator<Item = usize> + '_ {
         let (mesh, books) = (self.mesh, self.books());
         let (pos, t) = (mesh.positions(), mesh.triangles()[f]);
@@ -427,13 +428,14 @@ impl Derived {
     }
 }
 
-/// A face glued on along an edge of three or more faces whose corner off the edge lies
-/// within this fraction of the edge's length from it is a sliver: its plane is not defined
-/// (its normal is rounding), and its corner is taken as a point of the faces on the edge.
-/// The path through the corner and the path to its foot on the edge differ by at most this
-/// fraction of the edge (no paper; a thousand times the import's degeneracy ratio
-/// [`DEGENERATE_HEIGHT_RATIO`](crate::math::DEGENERATE_HEIGHT_RATIO), which coordinates rounded to `f32` already exceed on
-/// slivers of edges a few hundredths of their distance from the origin long).
+/// A face lower than this fraction of its longest edge is a sliver: its plane is not
+/// defined (its normal is rounding). A corner of a face glued on along an edge of three or
+/// more faces within this fraction of the edge's length of it is a point of the faces on
+/// the edge. The path through such a corner and the path to its foot on the edge differ by
+/// at most this fraction of the edge. (No paper; a thousand times the import's degeneracy
+/// ratio [`DEGENERATE_HEIGHT_RATIO`](crate::math::DEGENERATE_HEIGHT_RATIO), which
+/// coordinates rounded to `f32` already exceed on slivers of edges a few hundredths of
+/// their distance from the origin long.)
 const SLIVER_HEIGHT: Real = 1e-4;
 
 /// Whether `c` lies on the segment `a`–`b`: within [`SLIVER_HEIGHT`] of its length from it,

@@ -31,7 +31,7 @@
 //!         its edge (a handful).
 
 use super::shadow::slot;
-use super::{corners_after, foot, Rotation, Solver, Virtual, FOLD_COSINE};
+use super::{corners_after, crossing, foot, Rotation, Solver, Virtual, FOLD_COSINE};
 use crate::math::Point3;
 
 impl Solver<'_> {
@@ -111,12 +111,7 @@ impl Solver<'_> {
                         continue;
                     }
                     if sliver {
-                        // Its corner is a point of g: offered in g's plane, and a point
-                        // source of its own (t's plane is not defined).
-                        if let Some(o) = self.offer(&sg, g, x, u, y, y) {
-                            let (d, _, _) = o.of(sg, u);
-                            self.improve_from(x, d, Virtual::point(pos[x], d, t as u32), u);
-                        }
+                        self.offer_sliver_corner(&sg, g, x, u, y, t);
                         continue;
                     }
                     // Wound alike, g and t run along the edge in opposite directions; else
@@ -139,5 +134,53 @@ impl Solver<'_> {
         }
         self.across_books = false;
         self.sheet = sheet;
+    }
+
+    /// Offers corner `x` of sliver `t`, glued on along the edge `u – y` of face `g`, source
+    /// `sg` (in `g`'s plane, on `g`'s side of the edge): `x` is a point of `g`, at its foot
+    /// on the edge, reached by the ray from the source that enters `g` across one of its
+    /// other edges (or starts in `g`); it becomes a point source of its own (`t`'s plane is
+    /// not defined). Checked against the straight line from the source vertex, as offers
+    /// are.
+    fn offer_sliver_corner(
+        &mut self,
+        sg: &Virtual,
+        g: usize,
+        x: usize,
+        u: usize,
+        y: usize,
+        t: usize,
+    ) {
+        let surface = self.surface;
+        let pos = surface.mesh.positions();
+        let n = &surface.face_normals[g];
+        let (pu, py) = (pos[u], pos[y]);
+        let c = surface.mesh.triangles()[g]
+            .into_iter()
+            .map(|v| v as usize)
+            .find(|&v| v != u && v != y)
+            .unwrap_or(u);
+        let pc = pos[c];
+        let e = py - pu;
+        let along = ((pos[x] - pu).dot(&e) / e.norm_squared()).clamp(0.0, 1.0);
+        let on_edge = pu + e * along;
+        let f = foot(&on_edge, &sg.p, &sg.q, &sg.run_on, n, self.reach);
+        let w = on_edge - f;
+        let d = sg.sigma + w.norm() + (pos[x] - on_edge).norm();
+        if d >= self.dist[x] {
+            return;
+        }
+        // Within g: f on its side of every edge (within rounding), or the ray crossing the
+        // edge u – c or y – c on its way.
+        let side = |a: &Point3, b: &Point3, o: &Point3| {
+            (b - a).cross(&(f - a)).dot(n) * (b - a).cross(&(o - a)).dot(n) >= 0.0
+        };
+        let inside = side(&pu, &py, &pc) && side(&py, &pc, &pu) && side(&pc, &pu, &py);
+        let enters = inside
+            || crossing(&f, &w, &pu, &pc, n).is_some()
+            || crossing(&f, &w, &py, &pc, n).is_some();
+        if enters && self.holds(d, sg, &pos[x], u, y) {
+            self.improve_from(x, d, Virtual::point(pos[x], d, t as u32), u);
+        }
     }
 }

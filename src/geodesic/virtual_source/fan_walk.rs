@@ -70,6 +70,7 @@ impl Solver<'_> {
         let su = self.src[u];
         let (pu, du) = (pos[u], self.dist[u]);
         let mut open = false;
+        let at_a_book = self.book_vertex.get(u) == Some(&true);
         for &t in surface.faces_of(u) {
             let t = t as usize;
             let (p, q) = corners_after(tris[t], u);
@@ -77,6 +78,11 @@ impl Solver<'_> {
                 continue;
             }
             open = true;
+            // As in `Solver::settle`: a sliver glued on at u has no plane.
+            if at_a_book && surface.is_sliver(t) {
+                self.bend_into(u, t, p, q);
+                continue;
+            }
             for (x, y) in [(p, q), (q, p)] {
                 if self.settled[x] {
                     continue;

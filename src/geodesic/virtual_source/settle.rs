@@ -31,8 +31,9 @@ impl Solver<'_> {
             && self.rim.get(u).is_some_and(|&r| r != shadow::NO_RIM);
         // Where the faces around u bend sharply, a point source is unfolded around u instead
         // of turned about it (see `fan_walk.rs`).
+        let at_a_book = self.book_vertex.get(u) == Some(&true);
         if su.p == su.q && self.settled_walking(u) {
-            if self.book_vertex.get(u) == Some(&true) {
+            if at_a_book {
                 self.offer_across_books(u);
             }
             return;
@@ -44,6 +45,12 @@ impl Solver<'_> {
                 continue;
             }
             open = true;
+            // A sliver glued on at u has no plane to turn a source into: its corners get
+            // the bend at u here, and across the edge from `offer_across_books`.
+            if at_a_book && surface.is_sliver(t) {
+                self.bend_into(u, t, p, q);
+                continue;
+            }
             // Offers are checked first with x turned back about u into the plane of u's
             // source (the inverse of moving the source, one rotation instead of two for a
             // segment); most cannot improve x and need no more.
@@ -116,12 +123,26 @@ impl Solver<'_> {
                 }
             }
         }
-        if self.book_vertex.get(u) == Some(&true) {
+        if at_a_book {
             self.offer_across_books(u);
         }
         if !open && !surface.faces_of(u).is_empty() {
             // Every neighbour was nearer: a local maximum, where fronts end.
             self.maxima.push(u as u32);
+        }
+    }
+
+    /// Offers the unsettled corners among `p`, `q` of face `t` the path bending at settled
+    /// `u` (a point source there).
+    #[inline(never)]
+    pub(super) fn bend_into(&mut self, u: usize, t: usize, p: usize, q: usize) {
+        let pu = self.surface.mesh.positions()[u];
+        let du = self.dist[u];
+        for x in [p, q] {
+            if !self.settled[x] {
+                let direct = du + (self.surface.mesh.positions()[x] - pu).norm();
+                self.improve_from(x, direct, Virtual::point(pu, du, t as u32), u);
+            }
         }
     }
 
