@@ -22,8 +22,12 @@
 //!         `t`'s, or to its opposite where `t` runs along the edge in the same direction
 //!         as `g` (wound the other way). The offer checks, as every offer, that the ray
 //!         crosses the edge. A sliver (whose plane is not defined, see
-//!         `Surface::is_sliver`) has its corner offered as a point of `g`, and that corner
-//!         becomes a point source of its own. Where `u`'s source holds only in a
+//!         `Surface::is_sliver`) has its corner offered as a point of `g`, at its foot on
+//!         the edge, and that corner becomes a point source of its own; the generic offers
+//!         give a sliver at `u` only the path bending at `u` (a source turned into a plane
+//!         that rounding sets passed paths shorter than any on the surface: a closed sphere
+//!         with slivers glued on went 2.06 below the exact distance, 0.043 without them;
+//!         now 0.085). Where `u`'s source holds only in a
 //!         walked wedge, a face wound the other way is left out (the wedge's angles are
 //!         measured about the face's normal).
 //! Cost:   only at vertices on such an edge (none on a manifold mesh): the sheet round the
