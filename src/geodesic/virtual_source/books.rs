@@ -166,6 +166,9 @@ impl Solver<'_> {
             .unwrap_or(u);
         let pc = pos[c];
         let e = py - pu;
+        if e.norm_squared() == 0.0 {
+            return;
+        }
         let along = ((pos[x] - pu).dot(&e) / e.norm_squared()).clamp(0.0, 1.0);
         let on_edge = pu + e * along;
         let f = foot(&on_edge, &sg.p, &sg.q, &sg.run_on, n, self.reach);
