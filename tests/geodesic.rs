@@ -196,6 +196,104 @@ fn a_plane_section_and_passes_broken_at_edges_of_three_faces_are_whole() {
 }
 
 #[test]
+fn a_book_of_many_pages_and_a_fan_round_one_vertex_get_straight_distances_and_passes() {
+    // A book: 300 unit-high pages on the edge (0, 0, 0)–(1, 0, 0), each a triangle to its own
+    // corner (0.5, cos t, sin t). From vertex 0 every page is flat and reached straight:
+    // d(p) = |p|. Every page's corner restarting as a pseudo-source sent a window across the
+    // spine into every other page (n² windows, each refused; 26 s for 20,000 pages), and the
+    // boundary walk scanned the spine's ends from their first edge at every visit.
+    let n = 300u32;
+    let mut positions = vec![Point3::origin(), Point3::new(1.0, 0.0, 0.0)];
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        let t = PI * Real::from(i) / Real::from(n);
+        positions.push(Point3::new(0.5, t.cos(), t.sin()));
+        triangles.push([0, 1, i + 2]);
+    }
+    let book = shape(positions, triangles);
+    assert_eq!(book.adjacency.non_manifold_edges(), 1);
+    let from_0 = GeodesicSource::Vertices(vec![0]);
+    for (method, exact_first_windows) in [
+        (Method::Exact, None),
+        (Method::Accurate, None),
+        (Method::Accurate, Some(0)),
+    ] {
+        let params = DistanceParams {
+            method,
+            exact_first_windows,
+            ..DistanceParams::default()
+        };
+        let field = distance(&book, &from_0, &params);
+        for (v, (p, d)) in book
+            .mesh
+            .positions()
+            .iter()
+            .zip(&field.vertex_distance)
+            .enumerate()
+        {
+            let want = p.coords.norm();
+            assert!(
+                (d - want).abs() < 1e-9,
+                "{method:?} {exact_first_windows:?}: vertex {v} {d} ≠ {want}"
+            );
+        }
+        let passes = lines(&book, &field, 0.25, None);
+        // Levels 0.25 … 1.0 cross every page (its corner lies 1.118 away).
+        // Levels 0.25, 0.5 and 0.75 cross every page (lines of two pages may be joined at
+        // the spine, where they meet).
+        for k in 1..=3 {
+            let mut pages = vec![false; n as usize];
+            for l in passes.iter().filter(|l| l.level == k) {
+                for p in l.points.iter().filter(|p| p.y.hypot(p.z) > 1e-6) {
+                    let page = (p.z.atan2(p.y) / PI * Real::from(n)).round() as usize;
+                    pages[page.min(n as usize - 1)] = true;
+                }
+            }
+            assert!(pages.iter().all(|&hit| hit), "{method:?}: level {k}");
+        }
+        // A level crosses a page on the chord of its arc about vertex 0, whose angle there
+        // is atan(2): between d·cos(atan(2) / 2) and d from vertex 0.
+        let sag = (0.5 * Real::atan(2.0)).cos();
+        for l in &passes {
+            for p in &l.points {
+                let r = p.coords.norm();
+                assert!(
+                    r <= l.distance + 1e-9 && r >= sag * l.distance - 1e-9,
+                    "{r} on {l:?}"
+                );
+            }
+        }
+    }
+    // A fan: a unit disc of 400 triangles round its centre (valence 400), passes from the
+    // centre. Each iso line asked for the centre's normal at every spoke it crossed, found
+    // by going round all its faces: the square of the valence per line (106 s for the
+    // passes of a fan of 20,000).
+    let m = 400u32;
+    let mut positions = vec![Point3::origin()];
+    let mut triangles = Vec::new();
+    for i in 0..m {
+        let t = 2.0 * PI * Real::from(i) / Real::from(m);
+        positions.push(Point3::new(t.cos(), t.sin(), 0.0));
+        triangles.push([0, i + 1, (i + 1) % m + 1]);
+    }
+    let fan = shape(positions, triangles);
+    let field = distance(
+        &fan,
+        &GeodesicSource::Vertices(vec![0]),
+        &DistanceParams::default(),
+    );
+    let circles = lines(&fan, &field, 0.2, None);
+    assert_eq!(circles.len(), 5);
+    for c in &circles {
+        assert!(c.closed);
+        assert!(c.normals.iter().all(|n| (n - Vector3::z()).norm() < 1e-12));
+    }
+    // The crossings of the spokes lie on the circles; the points between them on chords.
+    let sag = 1.0 - (PI / Real::from(m)).cos();
+    assert!(path_error(&circles, |p| p.coords.norm()) <= sag + 1e-12);
+}
+
+#[test]
 fn paths_cross_an_edge_of_three_faces_into_a_fin_and_a_sliver() {
     // A 4 × 4 plate of unit squares in z = 0, measured from the plane x = 0.3. Glued on along
     // the plate's edge (2, 1)–(2, 2) stands a fin to the corner (2, 1.5, 1); along the edge

@@ -104,6 +104,10 @@ fn boundary_loops_with_faces(surface: &Surface) -> Vec<BoundaryLoop> {
         lo..hi
     };
     let mut used = vec![false; edges.len()];
+    // Per run (at its first edge), where its first unused edge may be: every edge before it
+    // is used, so a vertex that many boundary edges leave (the ends of an edge of many
+    // faces) is not scanned from its start at every visit.
+    let mut unused_from: Vec<u32> = (0..edges.len() as u32).collect();
     let mut loops = Vec::new();
     for first in 0..edges.len() {
         if used[first] {
@@ -120,7 +124,18 @@ fn boundary_loops_with_faces(surface: &Surface) -> Vec<BoundaryLoop> {
         // Each step uses a new edge: at most `edges.len()` steps.
         while at != start {
             lp.vertices.push(at);
-            match leaving(at).find(|&i| !used[i]) {
+            let run = leaving(at);
+            let mut i = run
+                .start
+                .max(unused_from.get(run.start).map_or(0, |&i| i as usize));
+            // Ends: i advances to the run's end at the latest.
+            while i < run.end && used[i] {
+                i += 1;
+            }
+            if let Some(from) = unused_from.get_mut(run.start) {
+                *from = i as u32;
+            }
+            match (i < run.end).then_some(i) {
                 Some(i) => {
                     used[i] = true;
                     lp.faces.push(edges[i].2);

@@ -51,6 +51,8 @@ pub struct Derived {
     /// Per vertex, the rings to a gap in the surface and whether it lies on a hole's rim
     /// (see `virtual_source/shadow.rs`), found by the first distance that needs them.
     gaps: OnceLock<(Vec<u8>, Vec<bool>)>,
+    /// Unit vertex normals ([`Surface::vertex_normals`]), made by the first iso line.
+    vertex_normals: OnceLock<Vec<Vector3>>,
     /// The active faces on the edges of three or more faces, found by the first distance
     /// that needs them.
     books: OnceLock<EdgeBooks>,
@@ -129,7 +131,11 @@ impl EdgeBooks {
 
     /// The other active faces on the edge in slot `k` of face `f`, each with the slot of
     /// the edge there (none unless the edge has three or more faces).
-    pub(crate) fn others(&self, f: usize, k: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+    pub(crate) fn others(
+        &self,
+        f: usize,
+        k: usize,
+    ) -> impl DoubleEndedIterator<Item = (usize, usize)> + '_ {
         let range = match self.book_of.get(&((f as u32) << 2 | k as u32)) {
             Some(&b) => self.starts[b as usize] as usize..self.starts[b as usize + 1] as usize,
             None => 0..0,
@@ -306,30 +312,54 @@ impl<'a> Surface<'a> {
     }
 
     /// Unit area-weighted normal at vertex `v` (zero for a vertex of no active face). Found
-    /// on demand: the propagation never needs it, and few vertices are asked (the output's
-    /// tool axes, focal candidates), so no table is built.
+    /// on demand, in O(faces around `v`): the propagation never needs it, and a focal
+    /// candidate goes round its faces anyway. Bit for bit the entry of
+    /// [`Surface::vertex_normals`].
     pub fn vertex_normal(&self, v: usize) -> Vector3 {
-        // Summed in ascending face order, as a table built face by face would be.
-        let n = self.faces_of(v).iter().fold(Vector3::zeros(), |n, &f| {
+        // Summed in ascending face order, as the table is built face by face.
+        unit_or_zero(self.faces_of(v).iter().fold(Vector3::zeros(), |n, &f| {
             n + self.mesh.scaled_normal(f as usize)
-        });
-        let len = n.norm();
-        if len > 0.0 {
-            n / len
-        } else {
-            n
-        }
+        }))
+    }
+
+    /// [`Surface::vertex_normal`] of every vertex, made by the first call (O(F), then kept
+    /// with the faces' other derived data). Iso lines ask for the vertex normals of every
+    /// edge they cross: asked one by one, the centre of a disc tessellated as a fan would
+    /// cost its valence at each of its edges, so every iso line round it the square of it.
+    pub fn vertex_normals(&self) -> &[Vector3] {
+        self.derived.vertex_normals.get_or_init(|| {
+            let mut sums = vec![Vector3::zeros(); self.mesh.vertex_count()];
+            // Ascending face order, each face's corners in turn: the order of `faces_of`.
+            for &f in &self.faces {
+                let n = self.mesh.scaled_normal(f as usize);
+                for v in self.mesh.triangles()[f as usize] {
+                    sums[v as usize] += n;
+                }
+            }
+            sums.into_iter().map(unit_or_zero).collect()
+        })
     }
 
     /// Unit normal interpolated from the vertex normals of edge `(a, b)` at parameter `t`.
     pub fn edge_normal(&self, a: usize, b: usize, t: Real) -> Vector3 {
-        let n = self.vertex_normal(a) * (1.0 - t) + self.vertex_normal(b) * t;
+        let normals = self.vertex_normals();
+        let n = normals[a] * (1.0 - t) + normals[b] * t;
         let len = n.norm();
         if len > 0.0 {
             n / len
         } else {
             Vector3::z()
         }
+    }
+}
+
+/// `n` scaled to unit length, or `n` itself when it has none (zero).
+fn unit_or_zero(n: Vector3) -> Vector3 {
+    let len = n.norm();
+    if len > 0.0 {
+        n / len
+    } else {
+        n
     }
 }
 
@@ -403,6 +433,7 @@ impl Derived {
             subset: subset.map(<[u32]>::to_vec),
             counts: (nf, nv),
             gaps: OnceLock::new(),
+            vertex_normals: OnceLock::new(),
             books: OnceLock::new(),
             active,
             mean_edge: edge_sum / (3 * faces.len()).max(1) as Real,
@@ -644,5 +675,38 @@ pub(crate) fn segment_distance(p: &Point3, a: &Point3, b: &Point3) -> (Real, boo
         ((p - b).norm(), false)
     } else {
         ((p - (a + ab * t)).norm(), true)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_vertex_normal_table_is_the_normals_asked_one_by_one() {
+        // A fan of 40 triangles round vertex 0 on a cone (a vertex of high valence), a face
+        // repeating a vertex and a vertex in no face; all faces, then half of them.
+        let mut positions = vec![Point3::new(0.0, 0.0, 1.0)];
+        for k in 0..40 {
+            let t = k as Real * 0.157;
+            positions.push(Point3::new(t.cos(), t.sin(), 0.1 * (3.0 * t).sin()));
+        }
+        positions.push(Point3::new(5.0, 5.0, 5.0));
+        let mut triangles: Vec<[u32; 3]> = (0..40).map(|k| [0, k + 1, (k + 1) % 40 + 1]).collect();
+        triangles.push([1, 1, 2]);
+        let mesh = TriMesh::new(positions, triangles).unwrap();
+        let adjacency = FaceAdjacency::new(&mesh);
+        let half: Vec<u32> = (0..41).step_by(2).collect();
+        for subset in [None, Some(&half[..])] {
+            let surface = Surface::new(&mesh, &adjacency, subset).unwrap();
+            let table = surface.vertex_normals();
+            assert_eq!(table.len(), mesh.vertex_count());
+            for (v, n) in table.iter().enumerate() {
+                let one = surface.vertex_normal(v);
+                assert_eq!(n.map(Real::to_bits), one.map(Real::to_bits), "vertex {v}");
+            }
+            assert_eq!(table[41], Vector3::zeros());
+            assert!((table[0].norm() - 1.0).abs() < 1e-12);
+        }
     }
 }

@@ -44,7 +44,9 @@
 //!   - An edge of three or more faces (a fin or a sliver glued on along it) passes a window
 //!     on into every other active face on it (no paper: CH/ICH assume a manifold). Before,
 //!     a path could enter such a face only through the edge's ends: on a generated aircraft
-//!     a sliver's corner 0.115 m too far.
+//!     a sliver's corner 0.115 m too far. The windows are the same in every face beyond, so
+//!     when the first face's are dominated the others are not looked at (a book of `n`
+//!     pages: `n²` refused windows otherwise, from its corners' pseudo-sources).
 //!   - Rounding: a vertex within `RAY_TOLERANCE` of a window's border ray is reached by it
 //!     (neighbouring windows meet exactly on such rays; without slack a vertex there can fall
 //!     between them).
@@ -267,8 +269,9 @@ impl<'a> Solver<'a> {
     /// The faces across slot `k` of `f`, each with the slot of the same edge there: the
     /// face beyond a manifold edge, or every other active face on an edge of three or more
     /// faces (a path may go on into any of them: a fin glued on along that edge, a sliver).
-    fn twins(&self, f: usize, k: usize) -> Twins {
-        if let Some(h) = self.surface.across(f, k) {
+    fn twins(&self, f: usize, k: usize) -> Twins<'a> {
+        let surface: &'a Surface<'a> = self.surface;
+        if let Some(h) = surface.across(f, k) {
             let t = self.surface.mesh.triangles()[f];
             let (a, b) = (t[k], t[(k + 1) % 3]);
             let th = self.surface.mesh.triangles()[h];
@@ -277,13 +280,20 @@ impl<'a> Solver<'a> {
                 ((c == a && d == b) || (c == b && d == a)).then_some((h, j))
             }));
         }
-        Twins::Many(self.surface.books().others(f, k).collect())
+        // Last first (the order they were once taken from a list), and not gathered: an edge
+        // of `n` faces whose first twin settles the matter costs one, not `n`.
+        Twins::Many(Box::new(surface.books().others(f, k).rev()))
     }
 
     /// True when an end of the window's edge beats the window over its whole interval.
     fn dominated(&self, w: &Window, l: Real, a: usize, b: usize) -> bool {
+        self.dominated_by(w, l, a, b, 1.0)
+    }
+
+    /// [`Solver::dominated`] by more than `margin` times the filter's tolerance.
+    fn dominated_by(&self, w: &Window, l: Real, a: usize, b: usize, margin: Real) -> bool {
         let (f0, f1) = (w.front.at(w.b0, 0.0), w.front.at(w.b1, 0.0));
-        let tol = FILTER_TOLERANCE * f0.max(f1).max(self.scale);
+        let tol = margin * FILTER_TOLERANCE * f0.max(f1).max(self.scale);
         !(f0.is_finite() && f1.is_finite())
             || self.dist[a] + w.b1 < f1 - tol
             || self.dist[b] + (l - w.b0) < f0 - tol
@@ -485,18 +495,18 @@ impl<'a> Solver<'a> {
 
 /// The faces across an edge ([`Solver::twins`]): one (or none) across a manifold edge,
 /// any number across an edge of three or more faces.
-enum Twins {
+enum Twins<'a> {
     One(Option<(usize, usize)>),
-    Many(Vec<(usize, usize)>),
+    Many(Box<dyn Iterator<Item = (usize, usize)> + 'a>),
 }
 
-impl Iterator for Twins {
+impl Iterator for Twins<'_> {
     type Item = (usize, usize);
 
     fn next(&mut self) -> Option<(usize, usize)> {
         match self {
             Twins::One(one) => one.take(),
-            Twins::Many(many) => many.pop(),
+            Twins::Many(many) => many.next(),
         }
     }
 }

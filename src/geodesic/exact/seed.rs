@@ -10,19 +10,39 @@ use crate::math::{Real, Vector3};
 impl Solver<'_> {
     /// Seeds a window over `[b0, b1]` of the edge in slot `k` of `g`, crossing into the face
     /// beyond; `make` builds the front in that half-edge's frame.
+    ///
+    /// Across an edge of many faces the windows are the same in every face beyond (the
+    /// distances along the edge do not depend on the face they are unfolded into): when
+    /// the first face's are all dominated with room to spare (twice the filter's tolerance,
+    /// far above the rounding of another frame), the other faces are not looked at. Without
+    /// this, every corner of a book of `n` pages restarting as a pseudo-source sent `n`
+    /// windows across its spine, `n²` in all, each refused.
     pub(super) fn seed_edge(&mut self, g: usize, k: usize, make: &dyn Fn(&Frame) -> Vec<Seed>) {
-        for (h, j) in self.twins(g, k) {
+        let mut twins = self.twins(g, k).peekable();
+        let mut first = true;
+        while let Some((h, j)) = twins.next() {
             let Some(fr) = self.frame(h, j) else {
                 continue;
             };
-            for (b0, b1, front) in make(&fr) {
-                let w = Window {
+            let windows: Vec<Window> = make(&fr)
+                .into_iter()
+                .map(|(b0, b1, front)| Window {
                     face: h as u32,
                     slot: j as u8,
                     b0: b0.max(0.0),
                     b1: b1.min(fr.l),
                     front,
-                };
+                })
+                .collect();
+            if std::mem::take(&mut first)
+                && twins.peek().is_some()
+                && windows
+                    .iter()
+                    .all(|w| self.dominated_by(w, fr.l, fr.v[0], fr.v[1], 2.0))
+            {
+                return;
+            }
+            for w in windows {
                 self.offer(w, &fr);
             }
         }
