@@ -226,6 +226,58 @@ fn a_pass_broken_at_edges_of_three_faces_goes_on_as_one() {
 }
 
 #[test]
+fn faces_written_again_give_passes_without_moves_of_no_length() {
+    // A 100 mm plate of 2 mm squares whose every triangle is written three times, once the
+    // other way round (a careless export): every edge has three faces or more, so every
+    // face is a piece of a pass of its own, and the pieces along a plane are joined end to
+    // end (they are shorter than the gap joined, 2.5 mm). Each segment came thrice: the
+    // copies gave the pass segments of no length, whose direction is 0/0, so that a pass
+    // ending on one got a NaN extension, or (turned round for the zig-zag) a NaN link into
+    // it; the plan was then refused as "NaN of gun-on path" needing too many time samples.
+    let corner = |i: usize, j: usize| [2.0 * i as f32, 2.0 * j as f32, 0.0f32];
+    let mut tris: Vec<Tri> = Vec::new();
+    for j in 0..50 {
+        for i in 0..50 {
+            let [a, b, c, d] = [
+                corner(i, j),
+                corner(i + 1, j),
+                corner(i + 1, j + 1),
+                corner(i, j + 1),
+            ];
+            tris.extend([
+                [a, b, c],
+                [a, c, b],
+                [a, b, c],
+                [a, c, d],
+                [a, d, c],
+                [a, c, d],
+            ]);
+        }
+    }
+    let mesh = import(&binary_stl(&tris));
+    assert_eq!(mesh.report.non_manifold_edges, 2 * 50 * 51 + 50 * 50);
+    let (path, _) = trajectory(&mesh, &params(), 25.0);
+    assert_eq!(path.pass_count(), 4);
+    path.validate().unwrap();
+    // The plan over every face: no longer refused.
+    let faces: Vec<u32> = (0..mesh.mesh.triangle_count() as u32).collect();
+    let p = SprayParams {
+        spacing: 25.0,
+        resolution: Some(5.0),
+        ..params()
+    };
+    let plan = plan_spray(
+        &mesh.mesh,
+        &mesh.adjacency,
+        &mesh.geometry,
+        &faces,
+        &p,
+        &mut |_, _| {},
+    );
+    plan.unwrap().path.validate().unwrap();
+}
+
+#[test]
 fn the_inside_of_an_l_turns_at_the_crossing_of_the_offsets() {
     let m = inside_l();
     let p = params();

@@ -27,7 +27,8 @@ pub use deposition::{
 };
 pub use grid::PointGrid;
 pub use params::{
-    QualityLimits, Resolved, SprayError, SprayParams, MAX_PLANES, MAX_SAMPLES, MAX_TIME_SAMPLES,
+    QualityLimits, Resolved, SprayError, SprayParams, MAX_COATING_ENTRIES, MAX_PLANES, MAX_SAMPLES,
+    MAX_TIME_SAMPLES,
 };
 pub use plan::{
     cycle_time, plan_spray, plan_spray_cached, DirectionTrial, Hotspot, HotspotCause, SprayPlan,

@@ -12,6 +12,11 @@ use crate::math::{Compact, Real, Vector3};
 pub const MAX_SAMPLES: usize = 2_000_000;
 /// Most trajectory time samples one deposition may take (bounds the work of a tiny time step).
 pub const MAX_TIME_SAMPLES: usize = 20_000_000;
+/// Most entries (a sample reached by a piece of the passes) the speed optimiser's coating
+/// matrix may hold: about 28 bytes each with its row-wise copy, 670 MB at the most. The
+/// real skins measured need 2 to 17 entries a sample; surfaces stacked within the gun's
+/// reach (every one coated at once, as occlusion is not modelled) need one for each.
+pub const MAX_COATING_ENTRIES: usize = 24_000_000;
 /// Most scan planes one plan may have (bounds the work of a tiny spacing).
 pub const MAX_PLANES: usize = 100_000;
 
@@ -122,6 +127,12 @@ pub enum SprayError {
         /// A time step that fits.
         suggestion: Real,
     },
+    /// The speed optimiser's coating matrix would be too large.
+    #[error("optimising the gun speed over {samples} evaluation samples would take more than {max} coating entries (each sample within the gun's reach of too many pieces of the passes: surfaces stacked closer than 1.5 × the standoff are coated at once); plan one side at a time (a patch), a wider spacing, or without optimising the speed", max = MAX_COATING_ENTRIES)]
+    TooManyCoatingEntries {
+        /// Samples the optimiser solves on.
+        samples: usize,
+    },
     /// The nominal speed lies outside the speed limits.
     #[error("speed {} must lie within minSpeed {} and maxSpeed {}", Compact(*.speed), Compact(*.min), Compact(*.max))]
     SpeedOutsideLimits {
@@ -132,8 +143,9 @@ pub enum SprayError {
         /// Fastest speed allowed.
         max: Real,
     },
-    /// The tool path could not be built (a bug if it happens).
-    #[error(transparent)]
+    /// The trajectory built has a pose no robot can take (a fault of the planner if it
+    /// happens: every trajectory is checked before it is deposited).
+    #[error("the planned trajectory is invalid: {0} (a fault of the planner on these faces)")]
     ToolPath(#[from] crate::toolpath::ToolPathError),
 }
 

@@ -183,6 +183,9 @@ impl Setup<'_> {
             self.params.speed,
             TURN_ON_RADIUS_RATIO * self.model.radius,
         );
+        // A non-finite pose would reach the deposition as a time-step count of NaN (and a
+        // search would take it for a spacing too narrow to plan): refused here, by name.
+        path.validate()?;
         Ok((path, counts, passes.len()))
     }
 

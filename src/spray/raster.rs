@@ -548,11 +548,18 @@ pub fn scan_passes(
         // it: the chain stops at an edge of three faces, at a face of no area (left out of
         // the patch) and where the plane grazes a corner of the outline; ended there, the
         // pass would get its extensions (gun on) over the next piece's, a thick spot.
+        // A point within `min_length` of the joined pass's end is left out with its segment
+        // (as the chaining leaves them out): faces glued on twice, or pieces that meet end to
+        // end, would otherwise give a segment of no length, which has no direction.
         for piece in pieces {
             if let Some(last) = passes.last_mut().filter(|p: &&mut ScanPass| p.plane == k) {
                 if (piece.points[0] - last.points[last.points.len() - 1]).norm() <= join_gap {
-                    last.points.extend_from_slice(&piece.points[1..]);
-                    last.faces.extend_from_slice(&piece.faces);
+                    for (p, &f) in piece.points[1..].iter().zip(&piece.faces) {
+                        if (p - last.points[last.points.len() - 1]).norm() > min_length {
+                            last.points.push(*p);
+                            last.faces.push(f);
+                        }
+                    }
                     continue;
                 }
             }

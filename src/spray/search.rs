@@ -172,7 +172,9 @@ fn figures(it: &Iteration) -> ThicknessStats {
 fn too_narrow(e: &SprayError) -> bool {
     matches!(
         e,
-        SprayError::TooManyTimeSamples { .. } | SprayError::TooManyPlanes { .. }
+        SprayError::TooManyTimeSamples { .. }
+            | SprayError::TooManyPlanes { .. }
+            | SprayError::TooManyCoatingEntries { .. }
     )
 }
 

@@ -34,12 +34,14 @@
 //! Cost:   building the coating matrix is one deposition, its chords cut where the piece
 //!         changes (about `2R/L + 1` pieces reach each sample per pass, `L` the piece
 //!         length), its columns filled in path order (no sort of all entries); `H` and the
-//!         sweeps as in [`super::normal_equations`].
+//!         sweeps as in [`super::normal_equations`]. A matrix of more than
+//!         [`MAX_COATING_ENTRIES`] entries (surfaces
+//!         stacked within the gun's reach, all coated at once) is refused as it is built.
 
 use super::deposition::{check_time_samples, deposit_piece, for_each_segmented_piece, SprayModel};
 use super::grid::PointGrid;
 use super::normal_equations::{Coating, Problem, Rows};
-use super::params::SprayError;
+use super::params::{SprayError, MAX_COATING_ENTRIES};
 use super::quality::{thickness_stats, ThicknessStats};
 use super::samples::EvaluationSamples;
 use crate::math::{Real, Vector3};
@@ -181,7 +183,8 @@ fn coating_matrix(
     model: &SprayModel,
     v_ref: Real,
     step_length: Real,
-) -> Coating {
+    max_entries: usize,
+) -> Result<Coating, SprayError> {
     // Columns are filled in order: the speed pieces follow the path, and so do the
     // deposition's own pieces (longer, cut where the speed piece changes), so the pieces a
     // deposition piece reaches never precede those of the one before. Each deposition
@@ -221,11 +224,16 @@ fn coating_matrix(
     let mut entries: Vec<(u32, u32, Real)> = Vec::new();
     let mut count: Vec<usize> = Vec::new();
     let mut grouped: Vec<(u32, Real)> = Vec::new();
+    // Set once the entries exceed `max_entries`: the pieces after it are skipped.
+    let mut too_many = false;
     for_each_segmented_piece(
         path,
         model,
         |k| piece_of[k],
         |range, cumulative, starts, owner| {
+            if too_many {
+                return;
+            }
             entries.clear();
             deposit_piece(
                 &path.poses[range],
@@ -270,8 +278,12 @@ fn coating_matrix(
                 }
                 from = to;
             }
+            too_many = rows.len() > max_entries;
         },
     );
+    if too_many {
+        return Err(SprayError::TooManyCoatingEntries { samples: n });
+    }
     while start.len() <= pieces {
         close(&mut rows, &mut values, &mut start);
     }
@@ -283,12 +295,12 @@ fn coating_matrix(
             linked_to_next[a as usize] = true;
         }
     }
-    Coating {
+    Ok(Coating {
         start,
         rows,
         values,
         linked_to_next,
-    }
+    })
 }
 
 /// Chooses the speed of every piece of the gun-on path within `limits` to even out the
@@ -327,7 +339,8 @@ pub fn optimise_speeds(
         model,
         v_ref,
         step_length,
-    );
+        MAX_COATING_ENTRIES,
+    )?;
     // Interior samples carry their area; with no interior, every sample does.
     let any_interior = interior
         .iter()
@@ -521,8 +534,26 @@ mod tests {
         }
         let grid = PointGrid::new(&samples.positions, 0.5 * model.radius);
         let v_ref = 2.0;
-        let coating = coating_matrix(
-            &path, &piece_of, pieces, &samples, &grid, &model, v_ref, 1.0,
+        let build = |max_entries| {
+            coating_matrix(
+                &path,
+                &piece_of,
+                pieces,
+                &samples,
+                &grid,
+                &model,
+                v_ref,
+                1.0,
+                max_entries,
+            )
+        };
+        let coating = build(MAX_COATING_ENTRIES).unwrap();
+        // Bounded: one entry fewer than it holds is refused, naming the samples.
+        assert_eq!(
+            build(coating.rows.len() - 1).err(),
+            Some(SprayError::TooManyCoatingEntries {
+                samples: samples.positions.len()
+            })
         );
         for j in 0..pieces {
             let (rows, _) = coating.column(j);
