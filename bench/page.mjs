@@ -5,9 +5,12 @@
 // input once the page has opened its sample and been idle for two seconds (its warm-up).
 // Printed per file: the time from the input's change event to the page ready again, split at
 // the progress stages the page shows (read + parse + welding, adjacency, winding, segmentation,
-// the display buffers, drawing), and as the yardstick three.js's STLLoader.parse of the same
-// File's bytes in the same page (median of three, after the open). Skipped with a word when
-// Chromium is not installed (`npm run setup -- --browser` installs it).
+// the display buffers, drawing), and two yardsticks: three.js's STLLoader.parse of the same
+// File's bytes in the same page (median of three, after the open: warm, the bytes in memory),
+// and a three.js viewer's open of the file as the page's is timed: from the change event of a
+// file input in a fresh page to `STLLoader.parse` of `file.arrayBuffer()` done (cold, like the
+// page's open; median over three fresh pages). Skipped with a word when Chromium is not
+// installed (`npm run setup -- --browser` installs it).
 import { existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -28,7 +31,8 @@ const STAGE_GROUPS = [
 /** `aircraftStl(triangles)`: bench.mjs's generator (this module is imported from there). */
 export async function main({ aircraftStl }) {
   console.log('\nopening a file in the page (headless Chromium, SwiftShader WebGL): the bench\'s aircraft-like files, from the file chosen to its patches drawn; ' +
-    'stages as the page shows them; yardstick: three.js STLLoader.parse of the same bytes in the same page');
+    'stages as the page shows them; yardsticks: three.js STLLoader.parse of the same bytes in the same page (warm), ' +
+    'and a three.js viewer opening the same file in a fresh page (file read + parse, cold)');
   if (!existsSync(CHROMIUM)) {
     console.log(`skipped: Chromium is not installed at ${CHROMIUM} (npm run setup -- --browser)`);
     return;
@@ -36,7 +40,7 @@ export async function main({ aircraftStl }) {
   const { openApp, outputDir } = await import('../tests/e2e/helpers.mjs');
   mkdirSync(outputDir, { recursive: true });
   const stlLoader = readFileSync(join(root, 'node_modules', 'three', 'examples', 'jsm', 'loaders', 'STLLoader.js'), 'utf8');
-  console.log('    triangles   ready ms  ' + STAGE_GROUPS.map(([name]) => name.padStart(10)).join('  ') + '  STLLoader ms  (ready − drawing)/STLLoader');
+  console.log('    triangles   ready ms  ' + STAGE_GROUPS.map(([name]) => name.padStart(10)).join('  ') + '  STLLoader ms  (ready − drawing)/STLLoader  viewer open ms  (ready − drawing)/viewer open');
   for (const size of SIZES) {
     const path = join(outputDir, `bench_aircraft_${size}.stl`);
     if (!existsSync(path)) writeFileSync(path, aircraftStl(size));
@@ -87,12 +91,55 @@ export async function main({ aircraftStl }) {
         }
         return times.sort((a, b) => a - b)[1];
       });
+      const viewer = await viewerOpen(app, path, stlLoader);
       console.log(`${String(size).padStart(13)}  ${ready.toFixed(0).padStart(9)}  ` +
         STAGE_GROUPS.map(([group]) => spans[group].toFixed(0).padStart(10)).join('  ') +
-        `  ${loader.toFixed(0).padStart(12)}  ${((ready - spans.drawing) / loader).toFixed(2).padStart(25)}`);
+        `  ${loader.toFixed(0).padStart(12)}  ${((ready - spans.drawing) / loader).toFixed(2).padStart(25)}` +
+        `  ${viewer.toFixed(0).padStart(14)}  ${((ready - spans.drawing) / viewer).toFixed(2).padStart(27)}`);
     } finally {
       await app.close();
     }
   }
 }
 
+
+/** Fresh pages in which a file input opens the file as a three.js viewer would. */
+const VIEWER_RUNS = 3;
+
+/**
+ * The yardstick for the page's open: a three.js viewer's, timed as the page's is, from the
+ * file input's change event to `STLLoader.parse(await file.arrayBuffer())` done, in a fresh
+ * page of the same browser (cold: the file is read and the heap grows, as in the page's
+ * open). Median over VIEWER_RUNS fresh pages, in ms.
+ */
+async function viewerOpen(app, path, stlLoader) {
+  const page0 = `${app.url}bench/viewer.html`;
+  const html = `<!doctype html><meta charset="utf-8"><script type="importmap">
+{ "imports": { "three": "../vendor/three/build/three.module.js" } }</script>
+<input type="file" id="file"><script type="module">
+import { STLLoader } from './STLLoader.js';
+document.getElementById('file').addEventListener('change', async (event) => {
+  const t = performance.now();
+  const geometry = new STLLoader().parse(await event.target.files[0].arrayBuffer());
+  window.__opened = { ms: performance.now() - t, vertices: geometry.attributes.position.count };
+});
+window.__ready = true;
+</script>`;
+  const times = [];
+  for (let r = 0; r < VIEWER_RUNS; r++) {
+    const page = await app.browser.newPage();
+    try {
+      await page.route(page0, (route) => route.fulfill({ body: html, contentType: 'text/html' }));
+      await page.route(`${app.url}bench/STLLoader.js`, (route) =>
+        route.fulfill({ body: stlLoader, contentType: 'text/javascript' }));
+      await page.goto(page0);
+      await page.waitForFunction(() => window.__ready, null, { timeout: 60_000 });
+      await page.setInputFiles('#file', path);
+      const opened = await page.waitForFunction(() => window.__opened, null, { timeout: 600_000, polling: 50 });
+      times.push((await opened.jsonValue()).ms);
+    } finally {
+      await page.close();
+    }
+  }
+  return times.sort((a, b) => a - b)[Math.floor(VIEWER_RUNS / 2)];
+}
