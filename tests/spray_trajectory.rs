@@ -234,26 +234,7 @@ fn faces_written_again_give_passes_without_moves_of_no_length() {
     // copies gave the pass segments of no length, whose direction is 0/0, so that a pass
     // ending on one got a NaN extension, or (turned round for the zig-zag) a NaN link into
     // it; the plan was then refused as "NaN of gun-on path" needing too many time samples.
-    let corner = |i: usize, j: usize| [2.0 * i as f32, 2.0 * j as f32, 0.0f32];
-    let mut tris: Vec<Tri> = Vec::new();
-    for j in 0..50 {
-        for i in 0..50 {
-            let [a, b, c, d] = [
-                corner(i, j),
-                corner(i + 1, j),
-                corner(i + 1, j + 1),
-                corner(i, j + 1),
-            ];
-            tris.extend([
-                [a, b, c],
-                [a, c, b],
-                [a, b, c],
-                [a, c, d],
-                [a, d, c],
-                [a, c, d],
-            ]);
-        }
-    }
+    let tris = common::plate_written_thrice(50, 2.0);
     let mesh = import(&binary_stl(&tris));
     assert_eq!(mesh.report.non_manifold_edges, 2 * 50 * 51 + 50 * 50);
     let (path, _) = trajectory(&mesh, &params(), 25.0);

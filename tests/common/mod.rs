@@ -85,6 +85,28 @@ pub fn model(name: &str) -> Vec<u8> {
 /// A triangle as three corners.
 pub type Tri = [[f32; 3]; 3];
 
+/// A plate of `m × m` squares of side `h` in z = 0, each of its triangles written three
+/// times, the second the other way round (a careless export): every edge has three faces
+/// or more.
+pub fn plate_written_thrice(m: usize, h: f32) -> Vec<Tri> {
+    let corner = |i: usize, j: usize| [h * i as f32, h * j as f32, 0.0];
+    let mut out = Vec::with_capacity(6 * m * m);
+    for j in 0..m {
+        for i in 0..m {
+            let [a, b, c, d] = [
+                corner(i, j),
+                corner(i + 1, j),
+                corner(i + 1, j + 1),
+                corner(i, j + 1),
+            ];
+            for [p, q, r] in [[a, b, c], [a, c, d]] {
+                out.extend([[p, q, r], [p, r, q], [p, q, r]]);
+            }
+        }
+    }
+    out
+}
+
 /// Binary STL of the given triangles.
 pub fn binary_stl(triangles: &[Tri]) -> Vec<u8> {
     let mut out = vec![0u8; 80];
