@@ -125,17 +125,19 @@ fn boundary_loops_with_faces(surface: &Surface) -> Vec<BoundaryLoop> {
         while at != start {
             lp.vertices.push(at);
             let run = leaving(at);
-            let mut i = run
-                .start
-                .max(unused_from.get(run.start).map_or(0, |&i| i as usize));
-            // Ends: i advances to the run's end at the latest.
-            while i < run.end && used[i] {
-                i += 1;
-            }
-            if let Some(from) = unused_from.get_mut(run.start) {
+            let next = if run.is_empty() {
+                None
+            } else {
+                let from = &mut unused_from[run.start];
+                let mut i = *from as usize;
+                // Ends: i advances to the run's end at the latest.
+                while i < run.end && used[i] {
+                    i += 1;
+                }
                 *from = i as u32;
-            }
-            match (i < run.end).then_some(i) {
+                (i < run.end).then_some(i)
+            };
+            match next {
                 Some(i) => {
                     used[i] = true;
                     lp.faces.push(edges[i].2);

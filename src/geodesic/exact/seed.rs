@@ -24,26 +24,24 @@ impl Solver<'_> {
             let Some(fr) = self.frame(h, j) else {
                 continue;
             };
-            let windows: Vec<Window> = make(&fr)
-                .into_iter()
-                .map(|(b0, b1, front)| Window {
-                    face: h as u32,
-                    slot: j as u8,
-                    b0: b0.max(0.0),
-                    b1: b1.min(fr.l),
-                    front,
-                })
-                .collect();
+            let window = |(b0, b1, front): Seed| Window {
+                face: h as u32,
+                slot: j as u8,
+                b0: b0.max(0.0),
+                b1: b1.min(fr.l),
+                front,
+            };
+            let seeds = make(&fr);
             if std::mem::take(&mut first)
                 && twins.peek().is_some()
-                && windows
+                && seeds
                     .iter()
-                    .all(|w| self.dominated_by(w, fr.l, fr.v[0], fr.v[1], 2.0))
+                    .all(|&s| self.dominated_by(&window(s), fr.l, fr.v[0], fr.v[1], 2.0))
             {
                 return;
             }
-            for w in windows {
-                self.offer(w, &fr);
+            for s in seeds {
+                self.offer(window(s), &fr);
             }
         }
     }
